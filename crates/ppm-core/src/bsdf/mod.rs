@@ -1,0 +1,149 @@
+//! BSDFs: a closed set of scattering models behind one enum.
+//!
+//! # The contract (every model follows it)
+//! - Directions are unit vectors in the local shading frame: `z` is the shading normal, turned
+//!   to the side of the geometric normal. `wo` points away from the surface toward the viewer
+//!   (camera paths) or back along the path (light paths); `wi` points toward where light comes
+//!   from (camera paths) or where the photon goes next (light paths).
+//! - [`Bsdf::eval`] returns f(wo, wi) **without** the cosine factor.
+//! - [`Bsdf::pdf`] is the solid-angle density with which [`Bsdf::sample`] produces `wi`.
+//! - Delta lobes (mirror, glass) have `eval = 0` and `pdf = 0`: only `sample` produces them,
+//!   flagged [`Lobe::Specular`], with `pdf` set to the discrete probability of the lobe choice.
+//! - `sample` returns `wi`, the weight `f * |cos(wi)| / pdf`, the pdf and the lobe.
+//! - [`TransportMode`] tells camera paths (radiance) from light paths (importance). Only
+//!   refraction differs: radiance is scaled by 1/eta^2 on camera paths, photons carry flux
+//!   unscaled. Shading-normal asymmetry on light paths is corrected by
+//!   [`shading_normal_correction`] (Veach 1997, sec. 5.3).
+//! - diffuse, phong and mirror are two-sided: with `wo.z < 0` they act as if the surface were
+//!   flipped, so camera and light paths agree for any pair of directions. glass is one-sided
+//!   in the sense that `wo.z > 0` means outside (entering the medium of `ior`).
+
+mod diffuse;
+mod fresnel;
+mod glass;
+mod mirror;
+mod phong;
+
+pub use diffuse::Diffuse;
+pub use fresnel::fresnel_dielectric;
+pub use glass::Glass;
+pub use mirror::Mirror;
+pub use phong::Phong;
+
+use glam::{Vec2, Vec3};
+
+/// Which quantity a path carries.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TransportMode {
+    /// Camera paths: radiance flows toward the eye.
+    Radiance,
+    /// Light paths (photons): importance flows toward the eye, flux away from the light.
+    Importance,
+}
+
+/// The kind of lobe a sample came from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Lobe {
+    Diffuse,
+    Glossy,
+    /// A Dirac delta (mirror reflection, smooth refraction).
+    Specular,
+}
+
+/// The result of sampling a BSDF.
+#[derive(Clone, Copy, Debug)]
+pub struct BsdfSample {
+    /// Sampled direction (local frame).
+    pub wi: Vec3,
+    /// f * |cos(wi)| / pdf; for delta lobes the ratio of the delta's coefficients.
+    pub weight: Vec3,
+    /// Solid-angle pdf (non-delta lobes) or discrete lobe probability (delta lobes).
+    pub pdf: f32,
+    pub lobe: Lobe,
+}
+
+/// A scattering model.
+#[derive(Clone, Copy, Debug)]
+pub enum Bsdf {
+    Diffuse(Diffuse),
+    Mirror(Mirror),
+    Glass(Glass),
+    Phong(Phong),
+}
+
+impl Bsdf {
+    /// Lambertian with the given albedo.
+    pub fn diffuse(albedo: Vec3) -> Self {
+        Bsdf::Diffuse(Diffuse { albedo })
+    }
+    /// Perfect mirror times `color`.
+    pub fn mirror(color: Vec3) -> Self {
+        Bsdf::Mirror(Mirror { color })
+    }
+    /// Smooth dielectric of index `ior` against vacuum, transmission tinted by `color`.
+    pub fn glass(ior: f32, color: Vec3) -> Self {
+        Bsdf::Glass(Glass { ior, color })
+    }
+    /// Diffuse lobe plus the normalized modified Phong lobe.
+    pub fn phong(diffuse: Vec3, specular: Vec3, exponent: f32) -> Self {
+        Bsdf::Phong(Phong::new(diffuse, specular, exponent))
+    }
+
+    /// f(wo, wi), without the cosine; zero for delta lobes.
+    #[inline]
+    pub fn eval(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> Vec3 {
+        match self {
+            Bsdf::Diffuse(b) => b.eval(wo, wi),
+            Bsdf::Mirror(_) | Bsdf::Glass(_) => {
+                let _ = mode;
+                Vec3::ZERO
+            }
+            Bsdf::Phong(b) => b.eval(wo, wi),
+        }
+    }
+
+    /// Solid-angle pdf of `sample` producing `wi`; zero for delta lobes.
+    #[inline]
+    pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
+        match self {
+            Bsdf::Diffuse(b) => b.pdf(wo, wi),
+            Bsdf::Mirror(_) | Bsdf::Glass(_) => 0.0,
+            Bsdf::Phong(b) => b.pdf(wo, wi),
+        }
+    }
+
+    /// Samples `wi` given `wo`; `u_lobe` chooses a lobe, `u` the direction within it.
+    /// `None` when the sample carries no energy (e.g. below the horizon).
+    #[inline]
+    pub fn sample(&self, wo: Vec3, u_lobe: f32, u: Vec2, mode: TransportMode) -> Option<BsdfSample> {
+        match self {
+            Bsdf::Diffuse(b) => b.sample(wo, u),
+            Bsdf::Mirror(b) => b.sample(wo),
+            Bsdf::Glass(b) => b.sample(wo, u_lobe, mode),
+            Bsdf::Phong(b) => b.sample(wo, u_lobe, u),
+        }
+    }
+
+    /// True if every lobe is a delta (mirror, glass): no photons are stored and no light is
+    /// sampled at such a vertex.
+    #[inline]
+    pub fn is_delta(&self) -> bool {
+        matches!(self, Bsdf::Mirror(_) | Bsdf::Glass(_))
+    }
+}
+
+/// Veach's correction for shading normals on light paths (thesis, eq. 5.19): the adjoint BSDF
+/// with shading normals is f(wi, wo) |wo . ns| |wi . ng| / (|wo . ng| |wi . ns|) relative to
+/// the radiance one. Multiply a photon's throughput by this after sampling `wi` (the direction
+/// it leaves along) from `wo` (the direction it arrived from, reversed). All vectors world-space.
+/// Returns 1 in radiance mode. Returns 0 if either direction lies in the geometric plane.
+#[inline]
+pub fn shading_normal_correction(mode: TransportMode, wo: Vec3, wi: Vec3, ng: Vec3, ns: Vec3) -> f32 {
+    todo!("bsdf helper: {mode:?} {wo} {wi} {ng} {ns}")
+}
+
+/// Luminance of linear sRGB (Rec. 709 weights), used for lobe selection and Russian roulette.
+#[inline]
+pub fn luminance(c: Vec3) -> f32 {
+    c.dot(Vec3::new(0.2126, 0.7152, 0.0722))
+}

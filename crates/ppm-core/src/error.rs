@@ -1,0 +1,20 @@
+//! Errors raised while building a scene in code.
+
+use thiserror::Error;
+
+/// Why a scene (or one of its parts) cannot be built.
+#[derive(Debug, Error, Clone, PartialEq)]
+pub enum SceneError {
+    /// The camera cannot form an orthonormal basis or has an unusable field of view.
+    #[error("degenerate camera: {0}")]
+    DegenerateCamera(String),
+    /// Width or height is zero or absurdly large.
+    #[error("invalid resolution {width}x{height}: each side must be in 1..={max}")]
+    Resolution { width: u32, height: u32, max: u32 },
+    /// A value that must be finite and non-negative is not.
+    #[error("invalid value for {field}: {value} ({why})")]
+    InvalidValue { field: String, value: String, why: String },
+    /// A primitive names a material index that does not exist.
+    #[error("material index {0} is out of range")]
+    MissingMaterial(u32),
+}

@@ -1,0 +1,87 @@
+//! Integrators: the path tracer and progressive photon mapping, behind one [`Renderer`].
+//!
+//! A render is a sequence of iterations; after each one the image (the average of all
+//! iteration estimates) is a valid result, so a render can stop at any iteration.
+
+mod path;
+mod ppm;
+mod settings;
+
+pub use path::PathTracer;
+pub use ppm::PpmRenderer;
+pub use settings::{Algorithm, DirectMode, LightStrategy, RenderSettings};
+
+use crate::film::Image;
+use crate::scene::Scene;
+
+/// What one iteration did, for progress and speed reports.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct IterationStats {
+    /// Closest-hit rays traced.
+    pub rays: u64,
+    /// Shadow (any-hit) rays traced.
+    pub shadow_rays: u64,
+    /// Light paths traced and photons stored (photon mapping).
+    pub light_paths: u64,
+    pub photons: u64,
+    /// Gather radius used in this iteration (photon mapping).
+    pub radius: f32,
+    /// Samples dropped as NaN or infinite.
+    pub rejected: u64,
+}
+
+/// The render state of one of the integrators.
+pub enum Renderer {
+    Path(PathTracer),
+    Ppm(PpmRenderer),
+}
+
+impl Renderer {
+    /// A fresh render of `scene` with `settings` (uses the current rayon thread pool).
+    pub fn new(scene: &Scene, settings: &RenderSettings) -> Self {
+        match settings.algorithm {
+            Algorithm::Path => Renderer::Path(PathTracer::new(scene, settings.clone())),
+            Algorithm::Ppm => Renderer::Ppm(PpmRenderer::new(scene, settings.clone())),
+        }
+    }
+
+    /// Renders one more iteration.
+    pub fn iterate(&mut self, scene: &Scene) -> IterationStats {
+        match self {
+            Renderer::Path(r) => r.iterate(scene),
+            Renderer::Ppm(r) => r.iterate(scene),
+        }
+    }
+
+    /// The average of all iterations so far.
+    pub fn image(&self) -> Image {
+        match self {
+            Renderer::Path(r) => r.film().image(),
+            Renderer::Ppm(r) => r.film().image(),
+        }
+    }
+
+    /// Iterations done.
+    pub fn iterations(&self) -> u64 {
+        match self {
+            Renderer::Path(r) => r.film().iterations(),
+            Renderer::Ppm(r) => r.film().iterations(),
+        }
+    }
+
+    /// Samples dropped as NaN or infinite so far.
+    pub fn rejected(&self) -> u64 {
+        match self {
+            Renderer::Path(r) => r.film().rejected(),
+            Renderer::Ppm(r) => r.film().rejected(),
+        }
+    }
+
+    /// Bytes of the render state's large buffers (film, photons, grid).
+    pub fn memory_bytes(&self) -> usize {
+        match self {
+            Renderer::Path(r) => r.memory_bytes(),
+            Renderer::Ppm(r) => r.memory_bytes(),
+        }
+    }
+}

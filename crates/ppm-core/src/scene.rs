@@ -1,0 +1,198 @@
+//! The scene description: camera, materials, geometry and lights. Immutable during a render.
+
+use crate::camera::Camera;
+use crate::geometry::{Geometry, Hit, Ray, Sphere, TriangleMesh};
+use crate::light::{EmissionSample, Light, PointLight};
+use crate::material::Material;
+use crate::sampling::Distribution1D;
+use crate::SceneError;
+use glam::{Vec2, Vec3};
+
+/// Render defaults a scene file may carry (`render:` in scene format v1).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RenderDefaults {
+    /// Longest light or eye path, in bounces.
+    pub max_depth: u32,
+    /// Light paths per photon-mapping iteration.
+    pub photons: u32,
+    /// Initial gather radius in scene units; `None` derives it from the scene's size.
+    pub radius: Option<f32>,
+    /// Radius reduction parameter of progressive photon mapping.
+    pub alpha: f32,
+}
+
+impl Default for RenderDefaults {
+    fn default() -> Self {
+        RenderDefaults { max_depth: 32, photons: 200_000, radius: None, alpha: 2.0 / 3.0 }
+    }
+}
+
+/// A scene ready to render.
+pub struct Scene {
+    pub camera: Camera,
+    pub materials: Vec<Material>,
+    pub geometry: Geometry,
+    pub lights: Vec<Light>,
+    pub defaults: RenderDefaults,
+    /// Light selection proportional to power (mean over channels).
+    light_distribution: Distribution1D,
+    /// Light index of each emissive primitive (u32::MAX for the others), by global prim id.
+    prim_light: Vec<u32>,
+}
+
+/// Collects the parts of a scene, then builds the BVH and the lights.
+pub struct SceneBuilder {
+    pub camera: Camera,
+    pub materials: Vec<Material>,
+    pub meshes: Vec<TriangleMesh>,
+    pub spheres: Vec<Sphere>,
+    pub point_lights: Vec<PointLight>,
+    pub defaults: RenderDefaults,
+}
+
+impl SceneBuilder {
+    /// An empty scene seen by `camera`.
+    pub fn new(camera: Camera) -> Self {
+        SceneBuilder {
+            camera,
+            materials: Vec::new(),
+            meshes: Vec::new(),
+            spheres: Vec::new(),
+            point_lights: Vec::new(),
+            defaults: RenderDefaults::default(),
+        }
+    }
+
+    /// Adds a material and returns its index.
+    pub fn add_material(&mut self, material: Material) -> u32 {
+        self.materials.push(material);
+        self.materials.len() as u32 - 1
+    }
+
+    /// Adds a triangle mesh.
+    pub fn add_mesh(&mut self, mesh: TriangleMesh) {
+        self.meshes.push(mesh);
+    }
+
+    /// Adds a sphere.
+    pub fn add_sphere(&mut self, sphere: Sphere) {
+        self.spheres.push(sphere);
+    }
+
+    /// Adds a point light.
+    pub fn add_point_light(&mut self, light: PointLight) {
+        self.point_lights.push(light);
+    }
+
+    /// Builds the BVH and one area light per emissive primitive.
+    pub fn build(self) -> Result<Scene, SceneError> {
+        let n_mat = self.materials.len() as u32;
+        for m in self.meshes.iter().flat_map(|m| m.materials.iter()) {
+            if *m >= n_mat {
+                return Err(SceneError::MissingMaterial(*m));
+            }
+        }
+        if let Some(s) = self.spheres.iter().find(|s| s.material >= n_mat) {
+            return Err(SceneError::MissingMaterial(s.material));
+        }
+        let geometry = Geometry::new(&self.meshes, &self.spheres);
+        let n_tri = geometry.triangle_count() as u32;
+        let n_prim = n_tri + geometry.sphere_count() as u32;
+        let mut lights = Vec::new();
+        let mut prim_light = vec![u32::MAX; n_prim as usize];
+        for prim in 0..n_prim {
+            let light = if prim < n_tri {
+                let (tri, m) = geometry.triangle(prim);
+                let le = self.materials[m as usize].emission;
+                if le.max_element() > 0.0 {
+                    Light::triangle(tri, le, prim)
+                } else {
+                    None
+                }
+            } else {
+                let sphere = *geometry.sphere(prim);
+                let le = self.materials[sphere.material as usize].emission;
+                (le.max_element() > 0.0).then_some(Light::Sphere { sphere, le, prim })
+            };
+            if let Some(light) = light {
+                prim_light[prim as usize] = lights.len() as u32;
+                lights.push(light);
+            }
+        }
+        lights.extend(self.point_lights.iter().map(|p| Light::Point(*p)));
+        let weights: Vec<f32> = lights.iter().map(|l| l.power().element_sum() / 3.0).collect();
+        Ok(Scene {
+            camera: self.camera,
+            materials: self.materials,
+            geometry,
+            light_distribution: Distribution1D::new(&weights),
+            lights,
+            defaults: self.defaults,
+            prim_light,
+        })
+    }
+}
+
+impl Scene {
+    /// Closest hit along a ray.
+    #[inline]
+    pub fn intersect(&self, ray: &Ray) -> Option<Hit> {
+        self.geometry.intersect(ray)
+    }
+
+    /// True if the segment is blocked.
+    #[inline]
+    pub fn occluded(&self, ray: &Ray) -> bool {
+        self.geometry.occluded(ray)
+    }
+
+    /// The material at a hit.
+    #[inline]
+    pub fn material(&self, hit: &Hit) -> &Material {
+        &self.materials[hit.material as usize]
+    }
+
+    /// Chooses a light in proportion to its power: (light, probability). `None` without lights.
+    #[inline]
+    pub fn choose_light(&self, u: f32) -> Option<(&Light, f32)> {
+        if self.light_distribution.is_empty() {
+            return None;
+        }
+        let (i, pmf) = self.light_distribution.sample(u);
+        Some((&self.lights[i], pmf))
+    }
+
+    /// The light of an emissive primitive and the probability that [`Scene::choose_light`]
+    /// picks it; `None` if the primitive does not emit.
+    #[inline]
+    pub fn light_of_prim(&self, prim: u32) -> Option<(&Light, f32)> {
+        let i = *self.prim_light.get(prim as usize)?;
+        (i != u32::MAX).then(|| (&self.lights[i as usize], self.light_distribution.pmf(i as usize)))
+    }
+
+    /// Total emitted power of all lights, per channel.
+    pub fn total_power(&self) -> Vec3 {
+        self.lights.iter().map(|l| l.power()).sum()
+    }
+
+    /// Samples the start of a light path: a light in proportion to its power, then a point and
+    /// a direction on it. The flux is Le cos / (p_light p_area p_dir).
+    #[inline]
+    pub fn sample_emission(&self, u_light: f32, u_pos: Vec2, u_dir: Vec2) -> Option<EmissionSample> {
+        let (light, p_light) = self.choose_light(u_light)?;
+        let mut s = light.sample_emission(u_pos, u_dir);
+        s.flux /= p_light;
+        Some(s)
+    }
+
+    /// Length of the diagonal of the scene's bounding box.
+    pub fn diagonal(&self) -> f32 {
+        let (lo, hi) = self.geometry.bounds();
+        let d = (hi - lo).length();
+        if d.is_finite() {
+            d
+        } else {
+            1.0
+        }
+    }
+}
