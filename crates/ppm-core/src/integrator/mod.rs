@@ -65,6 +65,14 @@ impl Renderer {
         }
     }
 
+    /// The per-pixel estimates of the last iteration alone.
+    pub fn last_estimates(&self) -> &[glam::Vec3] {
+        match self {
+            Renderer::Path(r) => r.last_estimates(),
+            Renderer::Ppm(r) => r.last_estimates(),
+        }
+    }
+
     /// Iterations done.
     pub fn iterations(&self) -> u64 {
         match self {

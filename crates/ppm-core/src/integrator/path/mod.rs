@@ -68,6 +68,12 @@ impl PathTracer {
         }
     }
 
+    /// The per-pixel estimates of the last iteration alone (row-major), for variance
+    /// estimates in statistical tests.
+    pub fn last_estimates(&self) -> &[Vec3] {
+        &self.estimates
+    }
+
     /// The accumulated image.
     pub fn film(&self) -> &Film {
         &self.film

@@ -1,0 +1,107 @@
+//! The global radius schedule of progressive photon mapping.
+
+/// Knaus and Zwicker 2011 (eq. 19): after iteration i (i = 1, 2, ...) the squared radius
+/// shrinks as r_{i+1}^2 = r_i^2 (i + alpha) / (i + 1), alpha in (0, 1).
+///
+/// The product telescopes to r_n^2 = r_1^2 Gamma(n + alpha) / (Gamma(1 + alpha) Gamma(n + 1)),
+/// about r_1^2 n^(alpha - 1) / Gamma(1 + alpha): the radius shrinks slowly enough that the
+/// number of photons inside it still grows (variance falls) while the bias vanishes. For
+/// surfaces, alpha = 2/3 balances the two and gives the best asymptotic rate, O(n^(-2/3)) for
+/// the mean squared error (Knaus and Zwicker sec. 4.3; Kaplanyan and Dachsbacher 2013).
+/// The state is kept in f64: after 10^6 iterations r^2 has shrunk by about 10^4, far from
+/// any underflow.
+#[derive(Clone, Copy, Debug)]
+pub struct RadiusSchedule {
+    r2: f64,
+    alpha: f64,
+    /// The iteration whose radius `r2` is (1-based).
+    iteration: u64,
+}
+
+impl RadiusSchedule {
+    /// The schedule starting at `radius` for iteration 1.
+    pub fn new(radius: f32, alpha: f32) -> Self {
+        RadiusSchedule { r2: (radius as f64).powi(2), alpha: alpha as f64, iteration: 1 }
+    }
+
+    /// The radius of the current iteration.
+    pub fn radius(&self) -> f32 {
+        self.r2.sqrt() as f32
+    }
+
+    /// The squared radius of the current iteration.
+    pub fn radius2(&self) -> f64 {
+        self.r2
+    }
+
+    /// The current iteration (1-based).
+    pub fn iteration(&self) -> u64 {
+        self.iteration
+    }
+
+    /// Moves to the next iteration: r^2 *= (i + alpha) / (i + 1).
+    pub fn advance(&mut self) {
+        let i = self.iteration as f64;
+        self.r2 *= (i + self.alpha) / (i + 1.0);
+        self.iteration += 1;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// ln Gamma(x) for x > 0 by recurrence up to x >= 10, then Stirling's series (error < 1e-12).
+    fn ln_gamma(mut x: f64) -> f64 {
+        let mut shift = 0.0;
+        while x < 10.0 {
+            shift -= x.ln();
+            x += 1.0;
+        }
+        let x2 = x * x;
+        shift + (x - 0.5) * x.ln() - x + 0.5 * (2.0 * std::f64::consts::PI).ln() + 1.0 / (12.0 * x)
+            - 1.0 / (360.0 * x * x2)
+            + 1.0 / (1260.0 * x2 * x2 * x)
+    }
+
+    #[test]
+    fn ln_gamma_is_right() {
+        assert!((ln_gamma(5.0) - 24f64.ln()).abs() < 1e-10);
+        assert!((ln_gamma(0.5) - std::f64::consts::PI.sqrt().ln()).abs() < 1e-10);
+    }
+
+    #[test]
+    fn schedule_matches_closed_form() {
+        for &alpha in &[0.5f32, 2.0 / 3.0, 0.7, 0.9] {
+            let mut s = RadiusSchedule::new(0.03, alpha);
+            let a = alpha as f64;
+            let r1 = (0.03f32 as f64).powi(2);
+            for n in 1..=100_000u64 {
+                if n.is_power_of_two() || n == 100_000 {
+                    let nf = n as f64;
+                    let closed = r1
+                        * (ln_gamma(nf + a) - ln_gamma(1.0 + a) - ln_gamma(nf + 1.0)).exp();
+                    let rel = (s.radius2() - closed).abs() / closed;
+                    assert!(rel < 1e-9, "alpha {alpha} n {n}: {} vs {closed}", s.radius2());
+                }
+                s.advance();
+            }
+        }
+    }
+
+    #[test]
+    fn schedule_stays_positive_and_finite_for_a_million_iterations() {
+        let mut s = RadiusSchedule::new(1e-3, 0.7);
+        let mut last = s.radius2();
+        for _ in 0..1_000_000 {
+            s.advance();
+            let r2 = s.radius2();
+            assert!(r2 > 0.0 && r2.is_finite() && r2 < last);
+            last = r2;
+        }
+        // n^(alpha-1) / Gamma(1 + alpha) at n = 1e6: about 1.73e-2 for alpha = 0.7.
+        let ratio = s.radius2() / 1e-6;
+        assert!((ratio - 1e6f64.powf(-0.3) / (ln_gamma(1.7)).exp()).abs() / ratio < 1e-3, "{ratio}");
+        assert!(s.radius() > 0.0);
+    }
+}
