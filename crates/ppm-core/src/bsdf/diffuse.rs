@@ -41,6 +41,11 @@ impl Diffuse {
         wi.z = wi.z.copysign(wo.z);
         let pdf = self.pdf(wo, wi);
         // wo or wi in the tangent plane: a zero-measure event that carries nothing.
-        (pdf > 0.0).then_some(BsdfSample { wi, weight: self.albedo, pdf, lobe: Lobe::Diffuse })
+        (pdf > 0.0).then_some(BsdfSample {
+            wi,
+            weight: self.albedo,
+            pdf,
+            lobe: Lobe::Diffuse,
+        })
     }
 }

@@ -18,7 +18,11 @@
 /// (`sin_t >= 1`) returns exactly 1. The result is always in [0, 1].
 #[inline]
 pub fn fresnel_dielectric(cos_i: f32, eta: f32) -> f32 {
-    let (cos_i, eta) = if cos_i < 0.0 { (-cos_i, 1.0 / eta) } else { (cos_i, eta) };
+    let (cos_i, eta) = if cos_i < 0.0 {
+        (-cos_i, 1.0 / eta)
+    } else {
+        (cos_i, eta)
+    };
     let cos_i = cos_i.min(1.0);
     // Snell's law in relative form: sin_t = sin_i / eta, with eta = eta_t / eta_i.
     let sin2_t = (1.0 - cos_i * cos_i) / (eta * eta);

@@ -30,7 +30,12 @@ impl Glass {
     pub fn sample(&self, wo: Vec3, u_lobe: f32, mode: TransportMode) -> Option<BsdfSample> {
         let f = fresnel_dielectric(wo.z, self.ior);
         if u_lobe < f {
-            return Some(BsdfSample { wi: reflect(wo), weight: Vec3::ONE, pdf: f, lobe: Lobe::Specular });
+            return Some(BsdfSample {
+                wi: reflect(wo),
+                weight: Vec3::ONE,
+                pdf: f,
+                lobe: Lobe::Specular,
+            });
         }
         // eta = eta_wi / eta_wo: entering the medium when wo is outside.
         let eta = if wo.z > 0.0 { self.ior } else { 1.0 / self.ior };
@@ -39,7 +44,12 @@ impl Glass {
             TransportMode::Radiance => 1.0 / (eta * eta),
             TransportMode::Importance => 1.0,
         };
-        Some(BsdfSample { wi, weight: self.color * scale, pdf: 1.0 - f, lobe: Lobe::Specular })
+        Some(BsdfSample {
+            wi,
+            weight: self.color * scale,
+            pdf: 1.0 - f,
+            lobe: Lobe::Specular,
+        })
     }
 }
 

@@ -21,6 +21,11 @@ impl Mirror {
         if wo.z == 0.0 {
             return None;
         }
-        Some(BsdfSample { wi: reflect(wo), weight: self.color, pdf: 1.0, lobe: Lobe::Specular })
+        Some(BsdfSample {
+            wi: reflect(wo),
+            weight: self.color,
+            pdf: 1.0,
+            lobe: Lobe::Specular,
+        })
     }
 }

@@ -139,7 +139,13 @@ impl Bsdf {
 /// Returns 1 in radiance mode. Returns 0 if either direction lies in the geometric plane (or
 /// in the shading plane, where the BSDF weight already vanishes), so the result is always finite.
 #[inline]
-pub fn shading_normal_correction(mode: TransportMode, wo: Vec3, wi: Vec3, ng: Vec3, ns: Vec3) -> f32 {
+pub fn shading_normal_correction(
+    mode: TransportMode,
+    wo: Vec3,
+    wi: Vec3,
+    ng: Vec3,
+    ns: Vec3,
+) -> f32 {
     if mode == TransportMode::Radiance {
         return 1.0;
     }

@@ -25,7 +25,11 @@ pub struct Phong {
 impl Phong {
     /// A Phong BSDF; the caller ensures `diffuse + specular <= 1` per channel.
     pub fn new(diffuse: Vec3, specular: Vec3, exponent: f32) -> Self {
-        Phong { diffuse, specular, exponent }
+        Phong {
+            diffuse,
+            specular,
+            exponent,
+        }
     }
 
     /// Probability of sampling the glossy lobe, proportional to its albedo.
@@ -112,10 +116,15 @@ impl Phong {
             return None;
         }
         let pdf = self.pdf(wo, wi);
-        if !(pdf > 0.0) {
+        if pdf.is_nan() || pdf <= 0.0 {
             return None;
         }
         let weight = self.eval(wo, wi) * wi.z.abs() / pdf;
-        Some(BsdfSample { wi, weight, pdf, lobe })
+        Some(BsdfSample {
+            wi,
+            weight,
+            pdf,
+            lobe,
+        })
     }
 }
