@@ -2,16 +2,19 @@
 //!
 //! Every non-delta BSDF goes through [`bsdf_harness!`]: one line gives it a chi-square test of
 //! `sample` against `pdf`, sample/eval/pdf consistency, reciprocity, energy conservation and
-//! finiteness at grazing angles. The delta models (mirror, glass), the Fresnel term and the
-//! shading-normal correction have dedicated tests below, and the statistics are tested too.
+//! finiteness at grazing angles. The statistics behind them are tested at the end. The delta
+//! models (mirror, glass), the Fresnel term and the shading-normal correction have their own
+//! tests in `bsdf_specular.rs`.
 //!
 //! All randomness is seeded: every run draws the same numbers.
 
 mod common;
 
-use common::{chi2_directions, chi2_sf, gauss_legendre, sidak, Stats};
+use common::{
+    chi2_directions, chi2_sf, close, close3, direction, gauss_legendre, seed, sidak, Stats, IORS,
+};
 use glam::{Vec2, Vec3};
-use ppm_core::bsdf::{fresnel_dielectric, reflect, shading_normal_correction, Bsdf, Lobe, TransportMode};
+use ppm_core::bsdf::{Bsdf, Lobe, TransportMode};
 use ppm_core::sampling::{cosine_hemisphere, uniform_sphere, Rng};
 use std::f32::consts::PI;
 
@@ -38,17 +41,6 @@ fn incident_directions() -> Vec<Vec3> {
     above.chain(below).collect()
 }
 
-/// A direction with the given cos(theta) (possibly tiny or negative) and azimuth.
-fn direction(cos_theta: f32, phi: f32) -> Vec3 {
-    let sin_theta = (1.0 - cos_theta * cos_theta).max(0.0).sqrt();
-    Vec3::new(sin_theta * phi.cos(), sin_theta * phi.sin(), cos_theta)
-}
-
-/// A deterministic seed per test name (FNV-1a), so tests draw independent numbers.
-fn seed(name: &str) -> u64 {
-    name.bytes().fold(0xcbf2_9ce4_8422_2325, |h, b| (h ^ b as u64).wrapping_mul(0x0100_0000_01b3))
-}
-
 /// The directional albedo where it is known in closed form: constant for Lambertian, and
 /// diffuse + specular at normal incidence for Phong (the (n + 2) / (2 pi) normalisation).
 fn known_albedo(bsdf: &Bsdf, wo: Vec3) -> Option<Vec3> {
@@ -57,14 +49,6 @@ fn known_albedo(bsdf: &Bsdf, wo: Vec3) -> Option<Vec3> {
         Bsdf::Phong(p) if wo.z.abs() == 1.0 => Some(p.diffuse + p.specular),
         _ => None,
     }
-}
-
-fn close(a: f32, b: f32, rel: f32) -> bool {
-    (a - b).abs() <= rel * a.abs().max(b.abs()).max(1e-6)
-}
-
-fn close3(a: Vec3, b: Vec3, rel: f32) -> bool {
-    (0..3).all(|k| close(a[k], b[k], rel))
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -91,10 +75,17 @@ fn check_chi2(name: &str, bsdf: &Bsdf, chi2_tests: usize) {
                 o.statistic, o.dof, o.p_value, o.pdf_mass, o.worst
             )),
             // Shown with --nocapture: the p-values should look uniform on [0, 1].
-            Ok(o) => println!("{name}: wo = {wo}: chi2 = {:.1}, dof = {}, p = {:.4}", o.statistic, o.dof, o.p_value),
+            Ok(o) => println!(
+                "{name}: wo = {wo}: chi2 = {:.1}, dof = {}, p = {:.4}",
+                o.statistic, o.dof, o.p_value
+            ),
         }
     }
-    assert!(failures.is_empty(), "{name}: sample does not follow pdf:\n{}", failures.join("\n"));
+    assert!(
+        failures.is_empty(),
+        "{name}: sample does not follow pdf:\n{}",
+        failures.join("\n")
+    );
 }
 
 /// What `sample` returns agrees with `pdf` and `eval`: pdf(wo, wi) equals the returned pdf,
@@ -107,15 +98,36 @@ fn check_consistency(name: &str, bsdf: &Bsdf) {
     for wo in directions {
         for _ in 0..2000 {
             let (u_lobe, u) = (rng.uniform(), rng.uniform2());
-            let Some(s) = bsdf.sample(wo, u_lobe, u, RADIANCE) else { continue };
-            assert_ne!(s.lobe, Lobe::Specular, "{name}: a non-delta BSDF returned a delta lobe");
-            assert!((s.wi.length() - 1.0).abs() < 1e-4, "{name}: wi = {} not unit", s.wi);
-            assert!(s.pdf > 0.0 && s.pdf.is_finite(), "{name}: sample pdf {}", s.pdf);
+            let Some(s) = bsdf.sample(wo, u_lobe, u, RADIANCE) else {
+                continue;
+            };
+            assert_ne!(
+                s.lobe,
+                Lobe::Specular,
+                "{name}: a non-delta BSDF returned a delta lobe"
+            );
+            assert!(
+                (s.wi.length() - 1.0).abs() < 1e-4,
+                "{name}: wi = {} not unit",
+                s.wi
+            );
+            assert!(
+                s.pdf > 0.0 && s.pdf.is_finite(),
+                "{name}: sample pdf {}",
+                s.pdf
+            );
             let pdf = bsdf.pdf(wo, s.wi);
-            assert!(close(s.pdf, pdf, 1e-4), "{name}: wo {wo} wi {}: sample pdf {} != pdf {pdf}", s.wi, s.pdf);
+            assert!(
+                close(s.pdf, pdf, 1e-4),
+                "{name}: wo {wo} wi {}: sample pdf {} != pdf {pdf}",
+                s.wi,
+                s.pdf
+            );
             let expected = bsdf.eval(wo, s.wi, RADIANCE) * s.wi.z.abs() / pdf;
             assert!(
-                s.weight.is_finite() && s.weight.min_element() >= 0.0 && close3(s.weight, expected, 1e-4),
+                s.weight.is_finite()
+                    && s.weight.min_element() >= 0.0
+                    && close3(s.weight, expected, 1e-4),
                 "{name}: wo {wo} wi {}: weight {} != f |cos| / pdf = {expected}",
                 s.wi,
                 s.weight
@@ -125,8 +137,14 @@ fn check_consistency(name: &str, bsdf: &Bsdf) {
             let wi = uniform_sphere(rng.uniform2());
             let f = bsdf.eval(wo, wi, RADIANCE);
             let pdf = bsdf.pdf(wo, wi);
-            assert!(f.min_element() >= 0.0 && pdf >= 0.0, "{name}: negative f {f} or pdf {pdf}");
-            assert!(f.max_element() == 0.0 || pdf > 0.0, "{name}: wo {wo} wi {wi}: f = {f} but pdf = 0");
+            assert!(
+                f.min_element() >= 0.0 && pdf >= 0.0,
+                "{name}: negative f {f} or pdf {pdf}"
+            );
+            assert!(
+                f.max_element() == 0.0 || pdf > 0.0,
+                "{name}: wo {wo} wi {wi}: f = {f} but pdf = 0"
+            );
         }
     }
 }
@@ -143,8 +161,15 @@ fn check_reciprocity(name: &str, bsdf: &Bsdf) {
         for wi in std::iter::once(random).chain(sampled) {
             let f = bsdf.eval(wo, wi, RADIANCE);
             let f_swapped = bsdf.eval(wi, wo, RADIANCE);
-            assert!(close3(f, f_swapped, 1e-4), "{name}: f({wo}, {wi}) = {f} != f(wi, wo) = {f_swapped}");
-            assert_eq!(f, bsdf.eval(wo, wi, IMPORTANCE), "{name}: eval depends on the transport mode");
+            assert!(
+                close3(f, f_swapped, 1e-4),
+                "{name}: f({wo}, {wi}) = {f} != f(wi, wo) = {f_swapped}"
+            );
+            assert_eq!(
+                f,
+                bsdf.eval(wo, wi, IMPORTANCE),
+                "{name}: eval depends on the transport mode"
+            );
         }
     }
 }
@@ -160,7 +185,9 @@ fn check_energy(name: &str, bsdf: &Bsdf) {
         let mut by_uniform = [Stats::default(); 3];
         for _ in 0..N {
             let (u_lobe, u) = (rng.uniform(), rng.uniform2());
-            let w = bsdf.sample(wo, u_lobe, u, RADIANCE).map_or(Vec3::ZERO, |s| s.weight);
+            let w = bsdf
+                .sample(wo, u_lobe, u, RADIANCE)
+                .map_or(Vec3::ZERO, |s| s.weight);
             let wi = uniform_sphere(rng.uniform2());
             let g = bsdf.eval(wo, wi, RADIANCE) * wi.z.abs() * (4.0 * PI);
             for c in 0..3 {
@@ -172,13 +199,26 @@ fn check_energy(name: &str, bsdf: &Bsdf) {
         for c in 0..3 {
             let (a, b) = (by_sampling[c], by_uniform[c]);
             let (sa, sb) = (5.0 * a.std_error() + 1e-4, 5.0 * b.std_error() + 1e-4);
-            let ctx = format!("{name}: wo {wo}, channel {c}: albedo by sampling {:.5} (+-{sa:.1e}), \
-                               by uniform directions {:.5} (+-{sb:.1e})", a.mean(), b.mean());
-            assert!(a.mean() <= 1.0 + sa && b.mean() <= 1.0 + sb, "{ctx}: exceeds 1");
-            assert!((a.mean() - b.mean()).abs() <= (sa * sa + sb * sb).sqrt(), "{ctx}: disagree");
+            let ctx = format!(
+                "{name}: wo {wo}, channel {c}: albedo by sampling {:.5} (+-{sa:.1e}), \
+                               by uniform directions {:.5} (+-{sb:.1e})",
+                a.mean(),
+                b.mean()
+            );
+            assert!(
+                a.mean() <= 1.0 + sa && b.mean() <= 1.0 + sb,
+                "{ctx}: exceeds 1"
+            );
+            assert!(
+                (a.mean() - b.mean()).abs() <= (sa * sa + sb * sb).sqrt(),
+                "{ctx}: disagree"
+            );
             if let Some(rho) = known {
                 let rho = rho[c] as f64;
-                assert!((a.mean() - rho).abs() <= sa && (b.mean() - rho).abs() <= sb, "{ctx}: expected {rho}");
+                assert!(
+                    (a.mean() - rho).abs() <= sa && (b.mean() - rho).abs() <= sb,
+                    "{ctx}: expected {rho}"
+                );
             }
         }
     }
@@ -206,8 +246,14 @@ fn check_grazing(name: &str, bsdf: &Bsdf) {
             for (a, b) in [(wo, wi), (wi, wo)] {
                 let f = bsdf.eval(a, b, RADIANCE);
                 let pdf = bsdf.pdf(a, b);
-                assert!(f.is_finite() && f.min_element() >= 0.0, "{name}: f({a}, {b}) = {f}");
-                assert!(pdf.is_finite() && pdf >= 0.0, "{name}: pdf({a}, {b}) = {pdf}");
+                assert!(
+                    f.is_finite() && f.min_element() >= 0.0,
+                    "{name}: f({a}, {b}) = {f}"
+                );
+                assert!(
+                    pdf.is_finite() && pdf >= 0.0,
+                    "{name}: pdf({a}, {b}) = {pdf}"
+                );
             }
         }
         for mode in [RADIANCE, IMPORTANCE] {
@@ -224,7 +270,11 @@ fn check_grazing(name: &str, bsdf: &Bsdf) {
                         "{name}: wo {wo}: weight {}",
                         s.weight
                     );
-                    assert!(s.pdf.is_finite() && s.pdf > 0.0, "{name}: wo {wo}: pdf {}", s.pdf);
+                    assert!(
+                        s.pdf.is_finite() && s.pdf > 0.0,
+                        "{name}: wo {wo}: pdf {}",
+                        s.pdf
+                    );
                 }
             }
         }
@@ -278,4 +328,112 @@ bsdf_harness! {
     phong_n0: Bsdf::phong(Vec3::splat(0.3), Vec3::splat(0.5), 0.0),
     phong_glossy_only: Bsdf::phong(Vec3::ZERO, Vec3::new(0.9, 0.7, 1.0), 50.0),
     phong_diffuse_only: Bsdf::phong(Vec3::splat(0.7), Vec3::ZERO, 20.0),
+}
+
+/// Grazing angles for the delta models too, and the glass at its critical angle from inside.
+#[test]
+fn every_bsdf_is_finite_at_grazing_angles() {
+    check_grazing("mirror", &Bsdf::mirror(Vec3::new(0.9, 0.8, 0.7)));
+    for ior in IORS {
+        let glass = Bsdf::glass(ior, Vec3::new(0.9, 0.8, 0.7));
+        check_grazing("glass", &glass);
+        let cos_c = (1.0 - 1.0 / (ior * ior)).sqrt();
+        for cos in [
+            cos_c,
+            cos_c * (1.0 + 1e-6),
+            cos_c * (1.0 - 1e-6),
+            cos_c + 1e-7,
+            cos_c - 1e-7,
+        ] {
+            let wo = direction(-cos, 0.3);
+            for (mode, u_lobe) in [
+                (RADIANCE, 0.0),
+                (RADIANCE, 0.99999994),
+                (IMPORTANCE, 0.99999994),
+            ] {
+                let s = glass
+                    .sample(wo, u_lobe, Vec2::ZERO, mode)
+                    .expect("glass always scatters");
+                assert!(
+                    s.wi.is_finite() && s.weight.is_finite() && s.pdf.is_finite() && s.pdf > 0.0,
+                    "{s:?}"
+                );
+            }
+        }
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// The statistics themselves.
+// ---------------------------------------------------------------------------------------------
+
+#[test]
+fn chi2_survival_function_matches_reference_values() {
+    // Reference: mpmath.gammainc(k / 2, x / 2, regularized=True) at 30 digits, rounded to f64.
+    let cases = [
+        (1000.0, 1000, 0.494_052_853_829_239_6),
+        (4000.0, 3800, 0.011_826_617_436_760_39),
+        (23.209251158954356, 10, 0.010_000_000_000_000_013),
+        (1.0, 3, 0.801_251_956_901_200_8),
+        (0.5, 7, 0.999_446_481_390_425),
+    ];
+    for (x, dof, p) in cases {
+        let q = chi2_sf(x, dof);
+        assert!(
+            (q - p).abs() < 1e-10 * p.max(1e-3),
+            "chi2_sf({x}, {dof}) = {q} != {p}"
+        );
+    }
+    for x in [0.1, 1.0, 10.0, 50.0] {
+        assert!(
+            (chi2_sf(x, 2) - (-x / 2.0f64).exp()).abs() < 1e-12,
+            "2 dof at {x}"
+        );
+    }
+}
+
+#[test]
+fn gauss_legendre_is_exact_to_degree_2n_minus_1() {
+    let rule = gauss_legendre(6);
+    for degree in 0..12 {
+        let integral: f64 = rule.iter().map(|&(x, w)| w * x.powi(degree)).sum();
+        let exact = if degree % 2 == 1 {
+            0.0
+        } else {
+            2.0 / (degree + 1) as f64
+        };
+        assert!(
+            (integral - exact).abs() < 1e-13,
+            "x^{degree}: {integral} != {exact}"
+        );
+    }
+}
+
+/// The chi-square test itself can fail: a cosine sampler passes against its own pdf and is
+/// rejected against the uniform pdf, against 99% of its pdf, and against 101% of it.
+#[test]
+fn chi2_test_accepts_the_right_pdf_and_rejects_wrong_ones() {
+    let run = |pdf: &dyn Fn(Vec3) -> f64| {
+        let mut rng = Rng::new(seed("chi2_self_test"), 0, 0);
+        chi2_directions(
+            200_000,
+            &mut rng,
+            |r| Some(cosine_hemisphere(r.uniform2())),
+            pdf,
+        )
+    };
+    let cosine = |w: Vec3| (w.z.max(0.0) / PI) as f64;
+    assert!(run(&cosine).unwrap().p_value > 0.01);
+    assert!(
+        run(&|w: Vec3| if w.z > 0.0 {
+            0.5 / std::f64::consts::PI
+        } else {
+            0.0
+        })
+        .unwrap()
+        .p_value
+            < 1e-10
+    );
+    assert!(run(&|w: Vec3| 0.99 * cosine(w)).unwrap().p_value < 1e-10);
+    assert!(run(&|w: Vec3| 1.01 * cosine(w)).is_err());
 }

@@ -1,5 +1,9 @@
-//! Statistics for the BSDF harness: the chi-square distribution, Gauss-Legendre quadrature and
-//! a goodness-of-fit test of a direction sampler against its claimed pdf on the sphere.
+//! Support for the BSDF tests: the chi-square distribution, Gauss-Legendre quadrature, a
+//! goodness-of-fit test of a direction sampler against its claimed pdf on the sphere, and a
+//! few small helpers.
+
+// Each test file uses a different subset.
+#![allow(dead_code)]
 
 use glam::Vec3;
 use ppm_core::sampling::Rng;
@@ -15,10 +19,7 @@ pub fn ln_gamma(mut x: f64) -> f64 {
         x += 1.0;
     }
     let (x2, x3) = (x * x, x * x * x);
-    shift + (x - 0.5) * x.ln() - x
-        + 0.5 * (2.0 * PI).ln()
-        + 1.0 / (12.0 * x)
-        - 1.0 / (360.0 * x3)
+    shift + (x - 0.5) * x.ln() - x + 0.5 * (2.0 * PI).ln() + 1.0 / (12.0 * x) - 1.0 / (360.0 * x3)
         + 1.0 / (1260.0 * x3 * x2)
         - 1.0 / (1680.0 * x3 * x2 * x2)
 }
@@ -166,7 +167,11 @@ pub fn chi2_directions(
                 let (sin_t, cos_t) = theta.sin_cos();
                 for &(xp, wp) in &rule {
                     let phi = (j as f64 + 0.5 * (xp + 1.0)) * dp;
-                    let w = Vec3::new((sin_t * phi.cos()) as f32, (sin_t * phi.sin()) as f32, cos_t as f32);
+                    let w = Vec3::new(
+                        (sin_t * phi.cos()) as f32,
+                        (sin_t * phi.sin()) as f32,
+                        cos_t as f32,
+                    );
                     integral += wt * wp * pdf(w) * sin_t;
                 }
             }
@@ -182,7 +187,13 @@ pub fn chi2_directions(
     // zero-measure samples (u = 0 exactly), so "no sample" expects at least 1e-6 n.
     expected[nt * np] = (1.0 - mass).max(1e-6) * n as f64;
 
-    let cell_name = |c: usize| if c == nt * np { (usize::MAX, usize::MAX) } else { (c / np, c % np) };
+    let cell_name = |c: usize| {
+        if c == nt * np {
+            (usize::MAX, usize::MAX)
+        } else {
+            (c / np, c % np)
+        }
+    };
     let mut statistic = 0.0;
     let mut cells = 0usize;
     let (mut pooled_obs, mut pooled_exp) = (0.0, 0.0);
@@ -190,7 +201,9 @@ pub fn chi2_directions(
     for (c, (&o, &e)) in observed.iter().zip(&expected).enumerate() {
         if e == 0.0 && o > 0.0 {
             let (i, j) = cell_name(c);
-            return Err(format!("{o} samples in cell ({i}, {j}) where the pdf is zero"));
+            return Err(format!(
+                "{o} samples in cell ({i}, {j}) where the pdf is zero"
+            ));
         }
         if e < MIN_EXPECTED {
             pooled_obs += o;
@@ -206,7 +219,9 @@ pub fn chi2_directions(
         statistic += (pooled_obs - pooled_exp) * (pooled_obs - pooled_exp) / pooled_exp;
         cells += 1;
     } else if pooled_obs > 0.0 {
-        return Err(format!("{pooled_obs} samples in sparse cells expecting none"));
+        return Err(format!(
+            "{pooled_obs} samples in sparse cells expecting none"
+        ));
     }
     let dof = cells.saturating_sub(1).max(1);
     contributions.sort_by(|a, b| b.0.total_cmp(&a.0));
@@ -218,7 +233,13 @@ pub fn chi2_directions(
             (i, j, o, e)
         })
         .collect();
-    Ok(Chi2Outcome { statistic, dof, p_value: chi2_sf(statistic, dof), pdf_mass: mass, worst })
+    Ok(Chi2Outcome {
+        statistic,
+        dof,
+        p_value: chi2_sf(statistic, dof),
+        pdf_mass: mass,
+        worst,
+    })
 }
 
 /// Sidak-corrected significance: each of `tests` tests runs at this level so that the family
@@ -249,4 +270,30 @@ impl Stats {
     pub fn std_error(&self) -> f64 {
         (self.m2 / (self.n - 1.0) / self.n).sqrt()
     }
+}
+
+/// Indices of refraction the glass tests use: water, crown glass, diamond.
+pub const IORS: [f32; 3] = [1.33, 1.5, 2.4];
+
+/// A direction with the given cos(theta) (possibly tiny or negative) and azimuth.
+pub fn direction(cos_theta: f32, phi: f32) -> Vec3 {
+    let sin_theta = (1.0 - cos_theta * cos_theta).max(0.0).sqrt();
+    Vec3::new(sin_theta * phi.cos(), sin_theta * phi.sin(), cos_theta)
+}
+
+/// A deterministic seed per test name (FNV-1a), so tests draw independent numbers.
+pub fn seed(name: &str) -> u64 {
+    name.bytes().fold(0xcbf2_9ce4_8422_2325, |h, b| {
+        (h ^ b as u64).wrapping_mul(0x0100_0000_01b3)
+    })
+}
+
+/// |a - b| within `rel` of the larger magnitude (or of 1e-6 near zero).
+pub fn close(a: f32, b: f32, rel: f32) -> bool {
+    (a - b).abs() <= rel * a.abs().max(b.abs()).max(1e-6)
+}
+
+/// [`close`] per channel.
+pub fn close3(a: Vec3, b: Vec3, rel: f32) -> bool {
+    (0..3).all(|k| close(a[k], b[k], rel))
 }
