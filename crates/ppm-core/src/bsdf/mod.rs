@@ -136,10 +136,34 @@ impl Bsdf {
 /// with shading normals is f(wi, wo) |wo . ns| |wi . ng| / (|wo . ng| |wi . ns|) relative to
 /// the radiance one. Multiply a photon's throughput by this after sampling `wi` (the direction
 /// it leaves along) from `wo` (the direction it arrived from, reversed). All vectors world-space.
-/// Returns 1 in radiance mode. Returns 0 if either direction lies in the geometric plane.
+/// Returns 1 in radiance mode. Returns 0 if either direction lies in the geometric plane (or
+/// in the shading plane, where the BSDF weight already vanishes), so the result is always finite.
 #[inline]
-pub fn shading_normal_correction(mode: TransportMode, wo: Vec3, wi: Vec3, ng: Vec3, ns: Vec3) -> f32 {
-    todo!("bsdf helper: {mode:?} {wo} {wi} {ng} {ns}")
+pub fn shading_normal_correction(
+    mode: TransportMode,
+    wo: Vec3,
+    wi: Vec3,
+    ng: Vec3,
+    ns: Vec3,
+) -> f32 {
+    if mode == TransportMode::Radiance {
+        return 1.0;
+    }
+    let num = wo.dot(ns).abs() * wi.dot(ng).abs();
+    let den = wo.dot(ng).abs() * wi.dot(ns).abs();
+    let c = num / den;
+    // den == 0 (a direction in either plane) gives inf or NaN: no energy crosses there.
+    if den > 0.0 && c.is_finite() {
+        c
+    } else {
+        0.0
+    }
+}
+
+/// Mirror reflection of `w` about the local normal (the `z` axis): (-x, -y, z).
+#[inline]
+pub fn reflect(w: Vec3) -> Vec3 {
+    Vec3::new(-w.x, -w.y, w.z)
 }
 
 /// Luminance of linear sRGB (Rec. 709 weights), used for lobe selection and Russian roulette.

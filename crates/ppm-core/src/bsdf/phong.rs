@@ -1,12 +1,130 @@
-//! TODO(bsdf helper)
-use super::BsdfSample;
+//! Lambertian plus the normalized modified Phong lobe (Lafortune & Willems 1994).
+
+use super::{luminance, reflect, BsdfSample, Lobe};
+use crate::sampling::{cosine_hemisphere, Frame};
 use glam::{Vec2, Vec3};
-/// Diffuse + normalized modified Phong.
+use std::f32::consts::{FRAC_1_PI, PI};
+
+/// `diffuse / pi + specular (n + 2) / (2 pi) max(0, cos(alpha))^n`, with alpha the angle
+/// between `wi` and the mirror direction `reflect(wo)`. The (n + 2) / (2 pi) normalisation makes
+/// the glossy albedo exactly `specular` at normal incidence and smaller elsewhere, so
+/// `diffuse + specular <= 1` conserves energy. Two-sided like [`super::Diffuse`].
+///
+/// Either coefficient may be zero (the photon mapper builds a glossy-only copy with
+/// `diffuse = 0`); the lobe is then never sampled.
 #[derive(Clone, Copy, Debug)]
-pub struct Phong { pub diffuse: Vec3, pub specular: Vec3, pub exponent: f32 }
+pub struct Phong {
+    /// Lambertian albedo.
+    pub diffuse: Vec3,
+    /// Glossy albedo at normal incidence.
+    pub specular: Vec3,
+    /// Phong exponent n >= 0; larger is shinier.
+    pub exponent: f32,
+}
+
 impl Phong {
-    pub fn new(diffuse: Vec3, specular: Vec3, exponent: f32) -> Self { Phong { diffuse, specular, exponent } }
-    pub fn eval(&self, _wo: Vec3, _wi: Vec3) -> Vec3 { todo!() }
-    pub fn pdf(&self, _wo: Vec3, _wi: Vec3) -> f32 { todo!() }
-    pub fn sample(&self, _wo: Vec3, _u_lobe: f32, _u: Vec2) -> Option<BsdfSample> { todo!() }
+    /// A Phong BSDF; the caller ensures `diffuse + specular <= 1` per channel.
+    pub fn new(diffuse: Vec3, specular: Vec3, exponent: f32) -> Self {
+        Phong {
+            diffuse,
+            specular,
+            exponent,
+        }
+    }
+
+    /// Probability of sampling the glossy lobe, proportional to its albedo.
+    #[inline]
+    fn glossy_probability(&self) -> f32 {
+        let (d, s) = (luminance(self.diffuse), luminance(self.specular));
+        if s <= 0.0 {
+            0.0
+        } else {
+            s / (d + s)
+        }
+    }
+
+    /// max(0, cos(alpha))^n, alpha between `wi` and the mirror direction r of `wo`. The dot
+    /// product with r = `reflect(wo)` is the same in the flipped frame, so it serves both sides.
+    /// Zero for alpha >= 90 degrees even when n = 0 (where powf would give 0^0 = 1).
+    #[inline]
+    fn cos_alpha_pow(&self, wo: Vec3, wi: Vec3) -> f32 {
+        let r = reflect(wo);
+        if r.dot(wi) <= 0.0 {
+            return 0.0;
+        }
+        // cos(alpha) = 1 - |r - wi|^2 / 2, so cos^n = exp(n ln(1 - |r - wi|^2 / 2)). Near the
+        // peak cos(alpha) rounds to 1 in f32, which would cost cos^1000 four digits; the chord
+        // length keeps them.
+        let h = 0.5 * (r - wi).length_squared();
+        (self.exponent * (-h).ln_1p()).exp()
+    }
+
+    /// f(wo, wi) without the cosine; zero across the surface.
+    #[inline]
+    pub fn eval(&self, wo: Vec3, wi: Vec3) -> Vec3 {
+        if wo.z * wi.z <= 0.0 {
+            return Vec3::ZERO;
+        }
+        let n = self.exponent;
+        let glossy = (n + 2.0) * (0.5 * FRAC_1_PI) * self.cos_alpha_pow(wo, wi);
+        self.diffuse * FRAC_1_PI + self.specular * glossy
+    }
+
+    /// The mixture density of [`Phong::sample`]:
+    /// `(1 - p_s) |cos(wi)| / pi + p_s (n + 1) / (2 pi) max(0, cos(alpha))^n`
+    /// on `wo`'s side, with p_s the glossy-lobe probability.
+    #[inline]
+    pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
+        if wo.z * wi.z <= 0.0 {
+            return 0.0;
+        }
+        let p_s = self.glossy_probability();
+        if luminance(self.diffuse) <= 0.0 && p_s <= 0.0 {
+            return 0.0;
+        }
+        let n = self.exponent;
+        let diffuse = wi.z.abs() * FRAC_1_PI;
+        let glossy = (n + 1.0) * (0.5 * FRAC_1_PI) * self.cos_alpha_pow(wo, wi);
+        (1.0 - p_s) * diffuse + p_s * glossy
+    }
+
+    /// Picks a lobe with `u_lobe` (glossy with probability p_s), then samples
+    /// cos(wi) / pi or (n + 1) / (2 pi) cos^n(alpha) around the mirror direction.
+    /// The weight is f |cos(wi)| / mixture pdf. `None` below the horizon.
+    #[inline]
+    pub fn sample(&self, wo: Vec3, u_lobe: f32, u: Vec2) -> Option<BsdfSample> {
+        if wo.z == 0.0 || (luminance(self.diffuse) <= 0.0 && luminance(self.specular) <= 0.0) {
+            return None;
+        }
+        let p_s = self.glossy_probability();
+        let (wi, lobe) = if u_lobe < p_s {
+            // cos(alpha) = u^(1 / (n + 1)) inverts the cdf 1 - cos^(n+1) of the lobe; computed
+            // as 1 - h with h = -expm1(ln(u) / (n + 1)) so that small angles keep their digits.
+            let h = -(u.x.ln() / (self.exponent + 1.0)).exp_m1();
+            let cos_a = 1.0 - h;
+            let sin_a = (h * (2.0 - h)).max(0.0).sqrt();
+            let phi = 2.0 * PI * u.y;
+            let local = Vec3::new(sin_a * phi.cos(), sin_a * phi.sin(), cos_a);
+            (Frame::new(reflect(wo)).to_world(local), Lobe::Glossy)
+        } else {
+            let mut wi = cosine_hemisphere(u);
+            wi.z = wi.z.copysign(wo.z);
+            (wi, Lobe::Diffuse)
+        };
+        // A glossy sample may fall through the surface: it is lost (pdf keeps its mass).
+        if wo.z * wi.z <= 0.0 {
+            return None;
+        }
+        let pdf = self.pdf(wo, wi);
+        if pdf.is_nan() || pdf <= 0.0 {
+            return None;
+        }
+        let weight = self.eval(wo, wi) * wi.z.abs() / pdf;
+        Some(BsdfSample {
+            wi,
+            weight,
+            pdf,
+            lobe,
+        })
+    }
 }

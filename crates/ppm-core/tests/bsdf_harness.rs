@@ -1,0 +1,439 @@
+//! The BSDF test harness.
+//!
+//! Every non-delta BSDF goes through [`bsdf_harness!`]: one line gives it a chi-square test of
+//! `sample` against `pdf`, sample/eval/pdf consistency, reciprocity, energy conservation and
+//! finiteness at grazing angles. The statistics behind them are tested at the end. The delta
+//! models (mirror, glass), the Fresnel term and the shading-normal correction have their own
+//! tests in `bsdf_specular.rs`.
+//!
+//! All randomness is seeded: every run draws the same numbers.
+
+mod common;
+
+use common::{
+    chi2_directions, chi2_sf, close, close3, direction, gauss_legendre, seed, sidak, Stats, IORS,
+};
+use glam::{Vec2, Vec3};
+use ppm_core::bsdf::{Bsdf, Lobe, TransportMode};
+use ppm_core::sampling::{cosine_hemisphere, uniform_sphere, Rng};
+use std::f32::consts::PI;
+
+const RADIANCE: TransportMode = TransportMode::Radiance;
+const IMPORTANCE: TransportMode = TransportMode::Importance;
+
+/// Polar angles (degrees) of the incident directions of the generic tests; each is used above
+/// the surface and mirrored below it (two-sided models), at an azimuth off the histogram grid.
+const THETA_O_DEG: [f64; 5] = [0.0, 30.0, 60.0, 85.0, 89.9];
+
+/// Samples per chi-square test.
+const CHI2_SAMPLES: usize = 1_000_000;
+/// Family-wise significance of all chi-square tests together.
+const CHI2_ALPHA: f64 = 0.01;
+
+/// The incident directions: `THETA_O_DEG` above, then the same mirrored below the surface.
+fn incident_directions() -> Vec<Vec3> {
+    let phi = 1.0f64;
+    let above = THETA_O_DEG.iter().map(|&deg| {
+        let (s, c) = deg.to_radians().sin_cos();
+        Vec3::new((s * phi.cos()) as f32, (s * phi.sin()) as f32, c as f32).normalize()
+    });
+    let below = above.clone().map(|w| Vec3::new(w.x, w.y, -w.z));
+    above.chain(below).collect()
+}
+
+/// The directional albedo where it is known in closed form: constant for Lambertian, and
+/// diffuse + specular at normal incidence for Phong (the (n + 2) / (2 pi) normalisation).
+fn known_albedo(bsdf: &Bsdf, wo: Vec3) -> Option<Vec3> {
+    match bsdf {
+        Bsdf::Diffuse(d) => Some(d.albedo),
+        Bsdf::Phong(p) if wo.z.abs() == 1.0 => Some(p.diffuse + p.specular),
+        _ => None,
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Generic checks for non-delta BSDFs.
+// ---------------------------------------------------------------------------------------------
+
+/// Chi-square goodness of fit of `sample` against `pdf` for every incident direction, each at
+/// the Sidak-corrected level so that all `chi2_tests` of the file together reject a correct
+/// sampler with probability `CHI2_ALPHA`.
+fn check_chi2(name: &str, bsdf: &Bsdf, chi2_tests: usize) {
+    let level = sidak(CHI2_ALPHA, chi2_tests);
+    let mut failures = Vec::new();
+    for (k, wo) in incident_directions().into_iter().enumerate() {
+        let mut rng = Rng::new(seed(name), k as u64, 0);
+        let sample = |rng: &mut Rng| {
+            let (u_lobe, u) = (rng.uniform(), rng.uniform2());
+            bsdf.sample(wo, u_lobe, u, RADIANCE).map(|s| s.wi)
+        };
+        match chi2_directions(CHI2_SAMPLES, &mut rng, sample, |wi| bsdf.pdf(wo, wi) as f64) {
+            Err(e) => failures.push(format!("wo = {wo}: {e}")),
+            Ok(o) if o.p_value < level => failures.push(format!(
+                "wo = {wo}: chi2 = {:.1}, dof = {}, p = {:.3e} < {level:.3e}, pdf mass {:.6}, \
+                 worst cells (theta, phi, observed, expected) {:?}",
+                o.statistic, o.dof, o.p_value, o.pdf_mass, o.worst
+            )),
+            // Shown with --nocapture: the p-values should look uniform on [0, 1].
+            Ok(o) => println!(
+                "{name}: wo = {wo}: chi2 = {:.1}, dof = {}, p = {:.4}",
+                o.statistic, o.dof, o.p_value
+            ),
+        }
+    }
+    assert!(
+        failures.is_empty(),
+        "{name}: sample does not follow pdf:\n{}",
+        failures.join("\n")
+    );
+}
+
+/// What `sample` returns agrees with `pdf` and `eval`: pdf(wo, wi) equals the returned pdf,
+/// weight = f |cos(wi)| / pdf, the lobe is not a delta; and `pdf > 0` wherever `f > 0`
+/// (otherwise the estimator would miss part of the integrand).
+fn check_consistency(name: &str, bsdf: &Bsdf) {
+    let mut rng = Rng::new(seed(name), 1, 1);
+    let mut directions = incident_directions();
+    directions.extend((0..30).map(|_| uniform_sphere(rng.uniform2())));
+    for wo in directions {
+        for _ in 0..2000 {
+            let (u_lobe, u) = (rng.uniform(), rng.uniform2());
+            let Some(s) = bsdf.sample(wo, u_lobe, u, RADIANCE) else {
+                continue;
+            };
+            assert_ne!(
+                s.lobe,
+                Lobe::Specular,
+                "{name}: a non-delta BSDF returned a delta lobe"
+            );
+            assert!(
+                (s.wi.length() - 1.0).abs() < 1e-4,
+                "{name}: wi = {} not unit",
+                s.wi
+            );
+            assert!(
+                s.pdf > 0.0 && s.pdf.is_finite(),
+                "{name}: sample pdf {}",
+                s.pdf
+            );
+            let pdf = bsdf.pdf(wo, s.wi);
+            assert!(
+                close(s.pdf, pdf, 1e-4),
+                "{name}: wo {wo} wi {}: sample pdf {} != pdf {pdf}",
+                s.wi,
+                s.pdf
+            );
+            let expected = bsdf.eval(wo, s.wi, RADIANCE) * s.wi.z.abs() / pdf;
+            assert!(
+                s.weight.is_finite()
+                    && s.weight.min_element() >= 0.0
+                    && close3(s.weight, expected, 1e-4),
+                "{name}: wo {wo} wi {}: weight {} != f |cos| / pdf = {expected}",
+                s.wi,
+                s.weight
+            );
+        }
+        for _ in 0..2000 {
+            let wi = uniform_sphere(rng.uniform2());
+            let f = bsdf.eval(wo, wi, RADIANCE);
+            let pdf = bsdf.pdf(wo, wi);
+            assert!(
+                f.min_element() >= 0.0 && pdf >= 0.0,
+                "{name}: negative f {f} or pdf {pdf}"
+            );
+            assert!(
+                f.max_element() == 0.0 || pdf > 0.0,
+                "{name}: wo {wo} wi {wi}: f = {f} but pdf = 0"
+            );
+        }
+    }
+}
+
+/// f(wo, wi) = f(wi, wo) (Helmholtz), and the same in both transport modes, on random pairs and
+/// on sampled pairs (which find the narrow glossy peaks).
+fn check_reciprocity(name: &str, bsdf: &Bsdf) {
+    let mut rng = Rng::new(seed(name), 2, 2);
+    for _ in 0..20_000 {
+        let wo = uniform_sphere(rng.uniform2());
+        let (u_lobe, u) = (rng.uniform(), rng.uniform2());
+        let random = uniform_sphere(rng.uniform2());
+        let sampled = bsdf.sample(wo, u_lobe, u, RADIANCE).map(|s| s.wi);
+        for wi in std::iter::once(random).chain(sampled) {
+            let f = bsdf.eval(wo, wi, RADIANCE);
+            let f_swapped = bsdf.eval(wi, wo, RADIANCE);
+            assert!(
+                close3(f, f_swapped, 1e-4),
+                "{name}: f({wo}, {wi}) = {f} != f(wi, wo) = {f_swapped}"
+            );
+            assert_eq!(
+                f,
+                bsdf.eval(wo, wi, IMPORTANCE),
+                "{name}: eval depends on the transport mode"
+            );
+        }
+    }
+}
+
+/// Directional albedo rho(wo) = integral of f |cos(wi)| dwi, by two estimators: the mean sample
+/// weight (lost samples count 0) and uniform sphere sampling, f |cos| / (1 / (4 pi)). Both must
+/// be <= 1 within noise, agree with each other, and match the closed form where known.
+fn check_energy(name: &str, bsdf: &Bsdf) {
+    const N: usize = 100_000;
+    for (k, wo) in incident_directions().into_iter().enumerate() {
+        let mut rng = Rng::new(seed(name), 3, k as u64);
+        let mut by_sampling = [Stats::default(); 3];
+        let mut by_uniform = [Stats::default(); 3];
+        for _ in 0..N {
+            let (u_lobe, u) = (rng.uniform(), rng.uniform2());
+            let w = bsdf
+                .sample(wo, u_lobe, u, RADIANCE)
+                .map_or(Vec3::ZERO, |s| s.weight);
+            let wi = uniform_sphere(rng.uniform2());
+            let g = bsdf.eval(wo, wi, RADIANCE) * wi.z.abs() * (4.0 * PI);
+            for c in 0..3 {
+                by_sampling[c].push(w[c] as f64);
+                by_uniform[c].push(g[c] as f64);
+            }
+        }
+        let known = known_albedo(bsdf, wo);
+        for c in 0..3 {
+            let (a, b) = (by_sampling[c], by_uniform[c]);
+            let (sa, sb) = (5.0 * a.std_error() + 1e-4, 5.0 * b.std_error() + 1e-4);
+            let ctx = format!(
+                "{name}: wo {wo}, channel {c}: albedo by sampling {:.5} (+-{sa:.1e}), \
+                               by uniform directions {:.5} (+-{sb:.1e})",
+                a.mean(),
+                b.mean()
+            );
+            assert!(
+                a.mean() <= 1.0 + sa && b.mean() <= 1.0 + sb,
+                "{ctx}: exceeds 1"
+            );
+            assert!(
+                (a.mean() - b.mean()).abs() <= (sa * sa + sb * sb).sqrt(),
+                "{ctx}: disagree"
+            );
+            if let Some(rho) = known {
+                let rho = rho[c] as f64;
+                assert!(
+                    (a.mean() - rho).abs() <= sa && (b.mean() - rho).abs() <= sb,
+                    "{ctx}: expected {rho}"
+                );
+            }
+        }
+    }
+}
+
+/// Directions a hair above and below the tangent plane, for `wo` and `wi`.
+fn grazing_directions() -> Vec<Vec3> {
+    let mut dirs = Vec::new();
+    for cos in [1e-7f32, -1e-7, 1e-6, -1e-6, 0.0] {
+        for phi in [0.0f32, 0.7, 2.0, 4.5] {
+            dirs.push(direction(cos, phi));
+        }
+    }
+    dirs
+}
+
+/// eval, pdf and sample give finite non-negative values for grazing `wo` and `wi`, in both modes.
+fn check_grazing(name: &str, bsdf: &Bsdf) {
+    let mut rng = Rng::new(seed(name), 4, 4);
+    let dirs = grazing_directions();
+    for &wo in &dirs {
+        let mut others = dirs.clone();
+        others.extend((0..50).map(|_| uniform_sphere(rng.uniform2())));
+        for &wi in &others {
+            for (a, b) in [(wo, wi), (wi, wo)] {
+                let f = bsdf.eval(a, b, RADIANCE);
+                let pdf = bsdf.pdf(a, b);
+                assert!(
+                    f.is_finite() && f.min_element() >= 0.0,
+                    "{name}: f({a}, {b}) = {f}"
+                );
+                assert!(
+                    pdf.is_finite() && pdf >= 0.0,
+                    "{name}: pdf({a}, {b}) = {pdf}"
+                );
+            }
+        }
+        for mode in [RADIANCE, IMPORTANCE] {
+            for _ in 0..2000 {
+                let (u_lobe, u) = (rng.uniform(), rng.uniform2());
+                if let Some(s) = bsdf.sample(wo, u_lobe, u, mode) {
+                    assert!(
+                        s.wi.is_finite() && (s.wi.length() - 1.0).abs() < 1e-4,
+                        "{name}: wo {wo}: sampled wi {}",
+                        s.wi
+                    );
+                    assert!(
+                        s.weight.is_finite() && s.weight.min_element() >= 0.0,
+                        "{name}: wo {wo}: weight {}",
+                        s.weight
+                    );
+                    assert!(
+                        s.pdf.is_finite() && s.pdf > 0.0,
+                        "{name}: wo {wo}: pdf {}",
+                        s.pdf
+                    );
+                }
+            }
+        }
+    }
+}
+
+/// Registers the generic tests for each listed BSDF: `name: constructor,` makes a module
+/// `name` with five tests. The chi-square level is corrected for the number of models listed.
+macro_rules! bsdf_harness {
+    ($($name:ident: $bsdf:expr,)*) => {
+        /// Number of chi-square tests in this file (models x incident directions).
+        const CHI2_TESTS: usize = [$(stringify!($name)),*].len() * 2 * THETA_O_DEG.len();
+        $(
+            mod $name {
+                use super::*;
+                fn bsdf() -> Bsdf {
+                    $bsdf
+                }
+                #[test]
+                fn chi2_sample_matches_pdf() {
+                    check_chi2(stringify!($name), &bsdf(), CHI2_TESTS);
+                }
+                #[test]
+                fn sample_agrees_with_eval_and_pdf() {
+                    check_consistency(stringify!($name), &bsdf());
+                }
+                #[test]
+                fn eval_is_reciprocal() {
+                    check_reciprocity(stringify!($name), &bsdf());
+                }
+                #[test]
+                fn albedo_at_most_one() {
+                    check_energy(stringify!($name), &bsdf());
+                }
+                #[test]
+                fn finite_at_grazing_angles() {
+                    check_grazing(stringify!($name), &bsdf());
+                }
+            }
+        )*
+    };
+}
+
+bsdf_harness! {
+    diffuse_grey: Bsdf::diffuse(Vec3::splat(0.8)),
+    diffuse_coloured: Bsdf::diffuse(Vec3::new(1.0, 0.5, 0.0)),
+    phong_n1: Bsdf::phong(Vec3::new(0.2, 0.4, 0.5), Vec3::new(0.8, 0.6, 0.5), 1.0),
+    phong_n10: Bsdf::phong(Vec3::new(0.2, 0.4, 0.5), Vec3::new(0.8, 0.6, 0.5), 10.0),
+    phong_n100: Bsdf::phong(Vec3::new(0.2, 0.4, 0.5), Vec3::new(0.8, 0.6, 0.5), 100.0),
+    phong_n1000: Bsdf::phong(Vec3::new(0.2, 0.4, 0.5), Vec3::new(0.8, 0.6, 0.5), 1000.0),
+    phong_n0: Bsdf::phong(Vec3::splat(0.3), Vec3::splat(0.5), 0.0),
+    phong_glossy_only: Bsdf::phong(Vec3::ZERO, Vec3::new(0.9, 0.7, 1.0), 50.0),
+    phong_diffuse_only: Bsdf::phong(Vec3::splat(0.7), Vec3::ZERO, 20.0),
+}
+
+/// Grazing angles for the delta models too, and the glass at its critical angle from inside.
+#[test]
+fn every_bsdf_is_finite_at_grazing_angles() {
+    check_grazing("mirror", &Bsdf::mirror(Vec3::new(0.9, 0.8, 0.7)));
+    for ior in IORS {
+        let glass = Bsdf::glass(ior, Vec3::new(0.9, 0.8, 0.7));
+        check_grazing("glass", &glass);
+        let cos_c = (1.0 - 1.0 / (ior * ior)).sqrt();
+        for cos in [
+            cos_c,
+            cos_c * (1.0 + 1e-6),
+            cos_c * (1.0 - 1e-6),
+            cos_c + 1e-7,
+            cos_c - 1e-7,
+        ] {
+            let wo = direction(-cos, 0.3);
+            for (mode, u_lobe) in [
+                (RADIANCE, 0.0),
+                (RADIANCE, 0.99999994),
+                (IMPORTANCE, 0.99999994),
+            ] {
+                let s = glass
+                    .sample(wo, u_lobe, Vec2::ZERO, mode)
+                    .expect("glass always scatters");
+                assert!(
+                    s.wi.is_finite() && s.weight.is_finite() && s.pdf.is_finite() && s.pdf > 0.0,
+                    "{s:?}"
+                );
+            }
+        }
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// The statistics themselves.
+// ---------------------------------------------------------------------------------------------
+
+#[test]
+fn chi2_survival_function_matches_reference_values() {
+    // Reference: mpmath.gammainc(k / 2, x / 2, regularized=True) at 30 digits, rounded to f64.
+    let cases = [
+        (1000.0, 1000, 0.494_052_853_829_239_6),
+        (4000.0, 3800, 0.011_826_617_436_760_39),
+        (23.209251158954356, 10, 0.010_000_000_000_000_013),
+        (1.0, 3, 0.801_251_956_901_200_8),
+        (0.5, 7, 0.999_446_481_390_425),
+    ];
+    for (x, dof, p) in cases {
+        let q = chi2_sf(x, dof);
+        assert!(
+            (q - p).abs() < 1e-10 * p.max(1e-3),
+            "chi2_sf({x}, {dof}) = {q} != {p}"
+        );
+    }
+    for x in [0.1, 1.0, 10.0, 50.0] {
+        assert!(
+            (chi2_sf(x, 2) - (-x / 2.0f64).exp()).abs() < 1e-12,
+            "2 dof at {x}"
+        );
+    }
+}
+
+#[test]
+fn gauss_legendre_is_exact_to_degree_2n_minus_1() {
+    let rule = gauss_legendre(6);
+    for degree in 0..12 {
+        let integral: f64 = rule.iter().map(|&(x, w)| w * x.powi(degree)).sum();
+        let exact = if degree % 2 == 1 {
+            0.0
+        } else {
+            2.0 / (degree + 1) as f64
+        };
+        assert!(
+            (integral - exact).abs() < 1e-13,
+            "x^{degree}: {integral} != {exact}"
+        );
+    }
+}
+
+/// The chi-square test itself can fail: a cosine sampler passes against its own pdf and is
+/// rejected against the uniform pdf, against 99% of its pdf, and against 101% of it.
+#[test]
+fn chi2_test_accepts_the_right_pdf_and_rejects_wrong_ones() {
+    let run = |pdf: &dyn Fn(Vec3) -> f64| {
+        let mut rng = Rng::new(seed("chi2_self_test"), 0, 0);
+        chi2_directions(
+            200_000,
+            &mut rng,
+            |r| Some(cosine_hemisphere(r.uniform2())),
+            pdf,
+        )
+    };
+    let cosine = |w: Vec3| (w.z.max(0.0) / PI) as f64;
+    assert!(run(&cosine).unwrap().p_value > 0.01);
+    assert!(
+        run(&|w: Vec3| if w.z > 0.0 {
+            0.5 / std::f64::consts::PI
+        } else {
+            0.0
+        })
+        .unwrap()
+        .p_value
+            < 1e-10
+    );
+    assert!(run(&|w: Vec3| 0.99 * cosine(w)).unwrap().p_value < 1e-10);
+    assert!(run(&|w: Vec3| 1.01 * cosine(w)).is_err());
+}
