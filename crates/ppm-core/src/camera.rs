@@ -35,11 +35,15 @@ impl Camera {
         (width, height): (u32, u32),
     ) -> Result<Self, SceneError> {
         if !(position.is_finite() && look_at.is_finite() && up.is_finite()) {
-            return Err(SceneError::DegenerateCamera("position, look_at and up must be finite".into()));
+            return Err(SceneError::DegenerateCamera(
+                "position, look_at and up must be finite".into(),
+            ));
         }
         let forward = (look_at - position).normalize_or_zero();
         if forward == Vec3::ZERO {
-            return Err(SceneError::DegenerateCamera("look_at equals position".into()));
+            return Err(SceneError::DegenerateCamera(
+                "look_at equals position".into(),
+            ));
         }
         let right = forward.cross(up);
         if right.length() < 1e-6 * up.length().max(f32::MIN_POSITIVE) || up == Vec3::ZERO {
@@ -69,7 +73,11 @@ impl Camera {
     /// Changes the image size (the vertical field of view is kept).
     pub fn set_resolution(&mut self, width: u32, height: u32) -> Result<(), SceneError> {
         if width == 0 || height == 0 || width > MAX_RESOLUTION || height > MAX_RESOLUTION {
-            return Err(SceneError::Resolution { width, height, max: MAX_RESOLUTION });
+            return Err(SceneError::Resolution {
+                width,
+                height,
+                max: MAX_RESOLUTION,
+            });
         }
         self.width = width;
         self.height = height;
@@ -100,8 +108,14 @@ mod tests {
     use super::*;
 
     fn cam() -> Camera {
-        Camera::new(Vec3::new(0.0, 1.0, 3.9), Vec3::new(0.0, 1.0, 0.0), Vec3::Y, 38.0, (512, 412))
-            .unwrap()
+        Camera::new(
+            Vec3::new(0.0, 1.0, 3.9),
+            Vec3::new(0.0, 1.0, 0.0),
+            Vec3::Y,
+            38.0,
+            (512, 412),
+        )
+        .unwrap()
     }
 
     #[test]

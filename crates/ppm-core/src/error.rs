@@ -13,7 +13,11 @@ pub enum SceneError {
     Resolution { width: u32, height: u32, max: u32 },
     /// A value that must be finite and non-negative is not.
     #[error("invalid value for {field}: {value} ({why})")]
-    InvalidValue { field: String, value: String, why: String },
+    InvalidValue {
+        field: String,
+        value: String,
+        why: String,
+    },
     /// A primitive names a material index that does not exist.
     #[error("material index {0} is out of range")]
     MissingMaterial(u32),

@@ -13,7 +13,11 @@ pub struct Image {
 impl Image {
     /// A black image.
     pub fn new(width: u32, height: u32) -> Self {
-        Image { width, height, pixels: vec![Vec3::ZERO; (width * height) as usize] }
+        Image {
+            width,
+            height,
+            pixels: vec![Vec3::ZERO; (width * height) as usize],
+        }
     }
 
     /// The pixel at column x, row y.
@@ -51,7 +55,13 @@ pub struct Film {
 impl Film {
     /// An empty film.
     pub fn new(width: u32, height: u32) -> Self {
-        Film { width, height, sum: vec![[0.0; 3]; (width * height) as usize], iterations: 0, rejected: 0 }
+        Film {
+            width,
+            height,
+            sum: vec![[0.0; 3]; (width * height) as usize],
+            iterations: 0,
+            rejected: 0,
+        }
     }
 
     /// Adds one iteration: one estimate per pixel, row-major. Non-finite or negative estimates
@@ -94,7 +104,13 @@ impl Film {
             pixels: self
                 .sum
                 .iter()
-                .map(|s| Vec3::new((s[0] * inv) as f32, (s[1] * inv) as f32, (s[2] * inv) as f32))
+                .map(|s| {
+                    Vec3::new(
+                        (s[0] * inv) as f32,
+                        (s[1] * inv) as f32,
+                        (s[2] * inv) as f32,
+                    )
+                })
                 .collect(),
         }
     }

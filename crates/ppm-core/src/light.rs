@@ -20,7 +20,13 @@ pub struct PointLight {
 #[derive(Clone, Copy, Debug)]
 pub enum Light {
     /// An emissive triangle (global primitive id `prim`).
-    Triangle { tri: Triangle, normal: Vec3, area: f32, le: Vec3, prim: u32 },
+    Triangle {
+        tri: Triangle,
+        normal: Vec3,
+        area: f32,
+        le: Vec3,
+        prim: u32,
+    },
     /// An emissive sphere; `normal_sign` is -1 for an inward-facing sphere.
     Sphere { sphere: Sphere, le: Vec3, prim: u32 },
     /// A point light (a delta light: found only by light sampling).
@@ -89,7 +95,9 @@ impl Light {
     #[inline]
     fn sample_area(&self, u: Vec2) -> (Vec3, Vec3, f32) {
         match self {
-            Light::Triangle { tri, normal, area, .. } => {
+            Light::Triangle {
+                tri, normal, area, ..
+            } => {
                 let b = uniform_triangle(u);
                 let p = tri.v[0] * (1.0 - b.x - b.y) + tri.v[1] * b.x + tri.v[2] * b.y;
                 (p, *normal, 1.0 / *area)
@@ -97,7 +105,11 @@ impl Light {
             Light::Sphere { sphere, .. } => {
                 let d = uniform_sphere(u);
                 let n = if sphere.inward { -d } else { d };
-                (sphere.center + d * sphere.radius.abs(), n, 1.0 / sphere.area())
+                (
+                    sphere.center + d * sphere.radius.abs(),
+                    n,
+                    1.0 / sphere.area(),
+                )
             }
             Light::Point(p) => (p.position, Vec3::ZERO, 1.0),
         }
@@ -198,8 +210,19 @@ impl Light {
                 let cos = local.z;
                 let pdf_dir = cos / PI;
                 // Le cos / (p_area p_dir) = Le cos / ((1/A) (cos/pi)) = pi A Le, for cos > 0.
-                let flux = if pdf_dir > 0.0 { *le * (cos / (pdf_pos * pdf_dir)) } else { Vec3::ZERO };
-                EmissionSample { ray_origin: p, n, dir, flux, pdf_pos, pdf_dir }
+                let flux = if pdf_dir > 0.0 {
+                    *le * (cos / (pdf_pos * pdf_dir))
+                } else {
+                    Vec3::ZERO
+                };
+                EmissionSample {
+                    ray_origin: p,
+                    n,
+                    dir,
+                    flux,
+                    pdf_pos,
+                    pdf_dir,
+                }
             }
         }
     }

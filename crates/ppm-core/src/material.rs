@@ -16,7 +16,11 @@ pub struct Material {
 impl Material {
     /// An unnamed material.
     pub fn new(bsdf: Bsdf, emission: Vec3) -> Self {
-        Material { bsdf, emission, name: String::new() }
+        Material {
+            bsdf,
+            emission,
+            name: String::new(),
+        }
     }
 
     /// The same material with a name.

@@ -235,7 +235,9 @@ mod tests {
             let f = Frame::new(n);
             assert!((f.x.length() - 1.0).abs() < 1e-4);
             assert!((f.y.length() - 1.0).abs() < 1e-4);
-            assert!(f.x.dot(f.y).abs() < 1e-4 && f.x.dot(n).abs() < 1e-4 && f.y.dot(n).abs() < 1e-4);
+            assert!(
+                f.x.dot(f.y).abs() < 1e-4 && f.x.dot(n).abs() < 1e-4 && f.y.dot(n).abs() < 1e-4
+            );
             let v = uniform_sphere(rng.uniform2());
             assert!((f.to_world(f.to_local(v)) - v).length() < 1e-4);
         }
@@ -246,8 +248,10 @@ mod tests {
         // E[cos] under pdf cos/pi is (1/pi) * integral cos^2 dw = 2/3.
         let mut rng = Rng::new(3, 0, 0);
         let n = 200_000;
-        let mean: f64 =
-            (0..n).map(|_| cosine_hemisphere(rng.uniform2()).z as f64).sum::<f64>() / n as f64;
+        let mean: f64 = (0..n)
+            .map(|_| cosine_hemisphere(rng.uniform2()).z as f64)
+            .sum::<f64>()
+            / n as f64;
         assert!((mean - 2.0 / 3.0).abs() < 3e-3, "{mean}");
     }
 

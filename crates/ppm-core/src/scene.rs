@@ -23,7 +23,12 @@ pub struct RenderDefaults {
 
 impl Default for RenderDefaults {
     fn default() -> Self {
-        RenderDefaults { max_depth: 32, photons: 200_000, radius: None, alpha: 2.0 / 3.0 }
+        RenderDefaults {
+            max_depth: 32,
+            photons: 200_000,
+            radius: None,
+            alpha: 2.0 / 3.0,
+        }
     }
 }
 
@@ -120,7 +125,10 @@ impl SceneBuilder {
             }
         }
         lights.extend(self.point_lights.iter().map(|p| Light::Point(*p)));
-        let weights: Vec<f32> = lights.iter().map(|l| l.power().element_sum() / 3.0).collect();
+        let weights: Vec<f32> = lights
+            .iter()
+            .map(|l| l.power().element_sum() / 3.0)
+            .collect();
         Ok(Scene {
             camera: self.camera,
             materials: self.materials,
@@ -167,7 +175,12 @@ impl Scene {
     #[inline]
     pub fn light_of_prim(&self, prim: u32) -> Option<(&Light, f32)> {
         let i = *self.prim_light.get(prim as usize)?;
-        (i != u32::MAX).then(|| (&self.lights[i as usize], self.light_distribution.pmf(i as usize)))
+        (i != u32::MAX).then(|| {
+            (
+                &self.lights[i as usize],
+                self.light_distribution.pmf(i as usize),
+            )
+        })
     }
 
     /// Total emitted power of all lights, per channel.
@@ -178,7 +191,12 @@ impl Scene {
     /// Samples the start of a light path: a light in proportion to its power, then a point and
     /// a direction on it. The flux is Le cos / (p_light p_area p_dir).
     #[inline]
-    pub fn sample_emission(&self, u_light: f32, u_pos: Vec2, u_dir: Vec2) -> Option<EmissionSample> {
+    pub fn sample_emission(
+        &self,
+        u_light: f32,
+        u_pos: Vec2,
+        u_dir: Vec2,
+    ) -> Option<EmissionSample> {
         let (light, p_light) = self.choose_light(u_light)?;
         let mut s = light.sample_emission(u_pos, u_dir);
         s.flux /= p_light;

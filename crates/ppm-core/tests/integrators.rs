@@ -5,10 +5,15 @@ mod test_scenes;
 
 use ppm_core::integrator::{LightStrategy, PpmRenderer};
 use ppm_core::prelude::*;
-use test_scenes::{cornell, cornell_builder, furnace, render_stats, z_scores, BoxContents, PixelStats};
+use test_scenes::{
+    cornell, cornell_builder, furnace, render_stats, z_scores, BoxContents, PixelStats,
+};
 
 fn pt_settings(scene: &Scene) -> RenderSettings {
-    RenderSettings { algorithm: Algorithm::Path, ..RenderSettings::new(scene) }
+    RenderSettings {
+        algorithm: Algorithm::Path,
+        ..RenderSettings::new(scene)
+    }
 }
 
 /// Asserts that every pixel's mean is `expected` within `k` standard errors, and that the
@@ -20,20 +25,32 @@ fn assert_uniform_image(stats: &PixelStats, expected: f64, k: f64, what: &str) {
         for c in 0..3 {
             let se = stats.var_of_mean(i, c).sqrt();
             let d = stats.mean(i, c) - expected;
-            assert!(d.abs() <= k * se + 1e-9, "{what}: pixel {i} channel {c}: {} vs {expected} (se {se})", stats.mean(i, c));
+            assert!(
+                d.abs() <= k * se + 1e-9,
+                "{what}: pixel {i} channel {c}: {} vs {expected} (se {se})",
+                stats.mean(i, c)
+            );
             sum_var += stats.var_of_mean(i, c);
         }
     }
     let se_image = (sum_var).sqrt() / (3 * n) as f64;
     let d = stats.image_mean() - expected;
-    assert!(d.abs() <= k * se_image, "{what}: image mean {} vs {expected} (se {se_image})", stats.image_mean());
+    assert!(
+        d.abs() <= k * se_image,
+        "{what}: image mean {} vs {expected} (se {se_image})",
+        stats.image_mean()
+    );
 }
 
 #[test]
 fn path_tracer_furnace_sees_one_over_one_minus_albedo() {
     // L = Le + a L  =>  L = 1 / (1 - 0.8) = 5 in every pixel, for every light strategy.
     let scene = furnace(0.8, 6);
-    for strategy in [LightStrategy::Mis, LightStrategy::LightOnly, LightStrategy::BsdfOnly] {
+    for strategy in [
+        LightStrategy::Mis,
+        LightStrategy::LightOnly,
+        LightStrategy::BsdfOnly,
+    ] {
         let settings = RenderSettings {
             max_depth: 100_000,
             light_strategy: strategy,
@@ -55,7 +72,10 @@ fn ppm_furnace_converges_to_five() {
     };
     let stats = render_stats(&scene, &settings, 24);
     assert_uniform_image(&stats, 5.0, 5.0, "ppm photons");
-    let sampled = RenderSettings { direct: DirectMode::Sampled, ..settings };
+    let sampled = RenderSettings {
+        direct: DirectMode::Sampled,
+        ..settings
+    };
     let stats = render_stats(&scene, &sampled, 24);
     assert_uniform_image(&stats, 5.0, 5.0, "ppm sampled");
 }
@@ -64,7 +84,11 @@ fn ppm_furnace_converges_to_five() {
 fn light_sampling_bsdf_sampling_and_mis_agree() {
     let scene = cornell(10, BoxContents::Diffuse);
     let run = |strategy| {
-        let settings = RenderSettings { light_strategy: strategy, seed: strategy as u64, ..pt_settings(&scene) };
+        let settings = RenderSettings {
+            light_strategy: strategy,
+            seed: strategy as u64,
+            ..pt_settings(&scene)
+        };
         render_stats(&scene, &settings, 3000)
     };
     let mis = run(LightStrategy::Mis);
@@ -74,22 +98,59 @@ fn light_sampling_bsdf_sampling_and_mis_agree() {
         let mean_z2 = z.iter().map(|z| z * z).sum::<f64>() / z.len() as f64;
         // For agreeing estimators z is about standard normal: |z| > 4 has probability 6e-5
         // per value (300 values here), and the mean of z^2 is 1.
-        assert!(beyond <= 1, "{other:?}: {beyond} of {} values beyond 4 sigma", z.len());
-        assert!((0.6..1.5).contains(&mean_z2), "{other:?}: mean z^2 = {mean_z2}");
+        assert!(
+            beyond <= 1,
+            "{other:?}: {beyond} of {} values beyond 4 sigma",
+            z.len()
+        );
+        assert!(
+            (0.6..1.5).contains(&mean_z2),
+            "{other:?}: mean z^2 = {mean_z2}"
+        );
     }
 }
 
 #[test]
 fn ppm_and_path_tracing_converge_to_the_same_image() {
-    let scene = cornell(8, BoxContents::Glass);
-    let pt = render_stats(&scene, &RenderSettings { seed: 1, ..pt_settings(&scene) }, 4000);
-    let ppm_settings = RenderSettings { photons: 20_000, radius: 0.04, seed: 2, ..RenderSettings::new(&scene) };
+    // A closed Cornell box with a glass sphere (caustics) at 24x24: the path tracer's mean
+    // and photon mapping's mean agree within 4 standard errors (iterations are independent;
+    // the pixels of one photon-mapping iteration share a photon map, so the standard error
+    // of the image mean comes from the spread of the iteration means) and within 1%.
+    let scene = cornell(24, BoxContents::Glass);
+    let pt = render_stats(
+        &scene,
+        &RenderSettings {
+            seed: 1,
+            ..pt_settings(&scene)
+        },
+        1500,
+    );
+    let ppm_settings = RenderSettings {
+        photons: 50_000,
+        radius: 0.04,
+        seed: 2,
+        ..RenderSettings::new(&scene)
+    };
     let ppm = render_stats(&scene, &ppm_settings, 64);
     let (a, b) = (pt.image_mean(), ppm.image_mean());
+    let se = (pt.image_mean_se().powi(2) + ppm.image_mean_se().powi(2)).sqrt();
+    assert!(
+        (a - b).abs() < 4.0 * se,
+        "image means: pt {a} ppm {b}, se of difference {se}"
+    );
     assert!((a - b).abs() / a < 0.01, "image means: pt {a} ppm {b}");
+    // Per pixel: photon mapping is consistent, not unbiased. Its remaining bias (brightening
+    // within a radius of concave corners, where photons of the adjacent wall are gathered)
+    // shows in a few pixels; an error in a factor or a pdf would move most of them.
     let z = z_scores(&pt, &ppm);
     let beyond = z.iter().filter(|z| z.abs() > 4.0).count();
-    assert!(beyond <= 2, "{beyond} of {} pixel channels differ beyond 4 sigma", z.len());
+    assert!(
+        beyond * 200 <= z.len(),
+        "{beyond} of {} pixel channels differ beyond 4 sigma",
+        z.len()
+    );
+    let mean_z2 = z.iter().map(|z| z * z).sum::<f64>() / z.len() as f64;
+    assert!(mean_z2 < 1.5, "mean z^2 = {mean_z2}");
 }
 
 #[test]
@@ -98,9 +159,16 @@ fn first_hit_photons_carry_the_lights_power() {
     // carry the total power of the lights: sum Phi_p / N -> sum of light powers, per channel.
     // A coloured point light next to the area light makes the light choice matter.
     let mut builder = cornell_builder(4, BoxContents::Diffuse);
-    builder.add_point_light(PointLight { position: Vec3::new(0.3, 1.5, 0.2), intensity: Vec3::new(0.5, 2.0, 4.0) });
+    builder.add_point_light(PointLight {
+        position: Vec3::new(0.3, 1.5, 0.2),
+        intensity: Vec3::new(0.5, 2.0, 4.0),
+    });
     let scene = builder.build().unwrap();
-    let settings = RenderSettings { max_depth: 1, photons: 200_000, ..RenderSettings::new(&scene) };
+    let settings = RenderSettings {
+        max_depth: 1,
+        photons: 200_000,
+        ..RenderSettings::new(&scene)
+    };
     let mut r = PpmRenderer::new(&scene, settings.clone());
     r.iterate(&scene);
     let photons = r.photon_map().photons();
@@ -113,7 +181,11 @@ fn first_hit_photons_carry_the_lights_power() {
         let mean = sum / n;
         let se = ((sum2 / n - mean * mean) / n).sqrt();
         let d = (mean - power[c] as f64).abs();
-        assert!(d < 5.0 * se + 1e-6 * mean, "channel {c}: {mean} vs {} (se {se})", power[c]);
+        assert!(
+            d < 5.0 * se + 1e-6 * mean,
+            "channel {c}: {mean} vs {} (se {se})",
+            power[c]
+        );
     }
 }
 
@@ -121,9 +193,16 @@ fn first_hit_photons_carry_the_lights_power() {
 fn same_seed_same_image_at_any_thread_count() {
     let scene = cornell(12, BoxContents::Glass);
     for algorithm in [Algorithm::Path, Algorithm::Ppm] {
-        let settings = RenderSettings { algorithm, photons: 5_000, ..RenderSettings::new(&scene) };
+        let settings = RenderSettings {
+            algorithm,
+            photons: 5_000,
+            ..RenderSettings::new(&scene)
+        };
         let render = |threads| {
-            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
             pool.install(|| {
                 let mut r = Renderer::new(&scene, &settings);
                 for _ in 0..3 {
@@ -144,23 +223,46 @@ fn photons_never_leak_through_a_thin_wall() {
     // A two-sided diffuse wall lit from one side, seen from the other: the dark side receives
     // no light at all, even with a gather radius a hundred times the wall's thickness.
     for thickness in [0.0f32, 1e-3] {
-        let camera = Camera::new(Vec3::new(0.0, 0.0, -2.0), Vec3::ZERO, Vec3::Y, 40.0, (8, 8)).unwrap();
+        let camera =
+            Camera::new(Vec3::new(0.0, 0.0, -2.0), Vec3::ZERO, Vec3::Y, 40.0, (8, 8)).unwrap();
         let mut b = SceneBuilder::new(camera);
         let wall = b.add_material(Material::new(Bsdf::diffuse(Vec3::splat(0.8)), Vec3::ZERO));
         let lamp = b.add_material(Material::new(Bsdf::diffuse(Vec3::ZERO), Vec3::splat(5.0)));
         // The lit face at z = 0 faces +z; the dark face at z = -thickness faces -z.
-        b.add_mesh(TriangleMesh::quad(Vec3::new(-2.0, -2.0, 0.0), Vec3::X * 4.0, Vec3::Y * 4.0, wall));
+        b.add_mesh(TriangleMesh::quad(
+            Vec3::new(-2.0, -2.0, 0.0),
+            Vec3::X * 4.0,
+            Vec3::Y * 4.0,
+            wall,
+        ));
         if thickness > 0.0 {
             let z = -thickness;
-            b.add_mesh(TriangleMesh::quad(Vec3::new(-2.0, -2.0, z), Vec3::Y * 4.0, Vec3::X * 4.0, wall));
+            b.add_mesh(TriangleMesh::quad(
+                Vec3::new(-2.0, -2.0, z),
+                Vec3::Y * 4.0,
+                Vec3::X * 4.0,
+                wall,
+            ));
         }
         // A light facing the wall from +z.
-        b.add_mesh(TriangleMesh::quad(Vec3::new(-0.5, -0.5, 1.0), Vec3::Y, Vec3::X, lamp));
+        b.add_mesh(TriangleMesh::quad(
+            Vec3::new(-0.5, -0.5, 1.0),
+            Vec3::Y,
+            Vec3::X,
+            lamp,
+        ));
         let scene = b.build().unwrap();
-        let settings = RenderSettings { photons: 20_000, radius: 0.1, ..RenderSettings::new(&scene) };
+        let settings = RenderSettings {
+            photons: 20_000,
+            radius: 0.1,
+            ..RenderSettings::new(&scene)
+        };
         let mut r = Renderer::new(&scene, &settings);
         r.iterate(&scene);
-        assert!(r.image().pixels.iter().all(|p| *p == Vec3::ZERO), "thickness {thickness}: light leaked");
+        assert!(
+            r.image().pixels.iter().all(|p| *p == Vec3::ZERO),
+            "thickness {thickness}: light leaked"
+        );
         // The lit side does receive photons (the test can fail).
         if let Renderer::Ppm(ppm) = &r {
             assert!(ppm.photon_map().len() > 10_000);

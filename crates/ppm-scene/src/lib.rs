@@ -21,7 +21,10 @@ pub enum LoadError {
 
 /// Loads a scene file (scene format v1).
 pub fn load_scene(path: &Path) -> Result<LoadedScene, LoadError> {
-    Err(LoadError::Todo(format!("{}: loader not written yet", path.display())))
+    Err(LoadError::Todo(format!(
+        "{}: loader not written yet",
+        path.display()
+    )))
 }
 
 /// The scene file a command-line argument names: the path as given if it exists, otherwise

@@ -115,7 +115,13 @@ impl Bsdf {
     /// Samples `wi` given `wo`; `u_lobe` chooses a lobe, `u` the direction within it.
     /// `None` when the sample carries no energy (e.g. below the horizon).
     #[inline]
-    pub fn sample(&self, wo: Vec3, u_lobe: f32, u: Vec2, mode: TransportMode) -> Option<BsdfSample> {
+    pub fn sample(
+        &self,
+        wo: Vec3,
+        u_lobe: f32,
+        u: Vec2,
+        mode: TransportMode,
+    ) -> Option<BsdfSample> {
         match self {
             Bsdf::Diffuse(b) => b.sample(wo, u),
             Bsdf::Mirror(b) => b.sample(wo),

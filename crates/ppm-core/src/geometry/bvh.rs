@@ -124,8 +124,14 @@ impl TraversalRay {
                 .intersect(r.a, r.b, r.c, t_max * (1.0 + 4.0 * f32::EPSILON))
                 .map(|(t, b1, b2)| (t, Vec2::new(b1, b2)))
         } else {
-            intersect_sphere(r.a, r.b.x, self.origin3, self.dir, t_max * (1.0 + 4.0 * f32::EPSILON))
-                .map(|t| (t, Vec2::ZERO))
+            intersect_sphere(
+                r.a,
+                r.b.x,
+                self.origin3,
+                self.dir,
+                t_max * (1.0 + 4.0 * f32::EPSILON),
+            )
+            .map(|t| (t, Vec2::ZERO))
         }
     }
 }
@@ -185,14 +191,20 @@ impl Geometry {
                 Aabb::from_point(Vec3A::ZERO)
             }
         }));
-        let bounds = aabbs.iter().fold(None, |acc: Option<Aabb>, b| Some(acc.map_or(*b, |a| a.union(b))));
+        let bounds = aabbs.iter().fold(None, |acc: Option<Aabb>, b| {
+            Some(acc.map_or(*b, |a| a.union(b)))
+        });
         let bounds = bounds.map_or((Vec3::ZERO, Vec3::ZERO), |b| (b.min.into(), b.max.into()));
 
         let (nodes, order) = if aabbs.is_empty() {
             (Vec::new(), Vec::new())
         } else {
-            let params = BvhBuildParams { max_prims_per_leaf: 4, ..BvhBuildParams::medium_build() };
-            let bvh: Bvh2 = obvhs::bvh2::builder::build_bvh2(&aabbs, params, &mut Default::default());
+            let params = BvhBuildParams {
+                max_prims_per_leaf: 4,
+                ..BvhBuildParams::medium_build()
+            };
+            let bvh: Bvh2 =
+                obvhs::bvh2::builder::build_bvh2(&aabbs, params, &mut Default::default());
             (bvh.nodes, bvh.primitive_indices)
         };
         let records = order
@@ -201,11 +213,25 @@ impl Geometry {
                 let id = id as usize;
                 if id < n_tri {
                     let [a, b, c] = triangles[id].v;
-                    PrimRecord { a, b, c, id: id as u32 }
+                    PrimRecord {
+                        a,
+                        b,
+                        c,
+                        id: id as u32,
+                    }
                 } else {
                     let s = &spheres[id - n_tri];
-                    let (a, r) = if s.center.is_finite() { (s.center, s.radius.abs()) } else { (Vec3::ZERO, 0.0) };
-                    PrimRecord { a, b: Vec3::new(r, 0.0, 0.0), c: Vec3::ZERO, id: id as u32 }
+                    let (a, r) = if s.center.is_finite() {
+                        (s.center, s.radius.abs())
+                    } else {
+                        (Vec3::ZERO, 0.0)
+                    };
+                    PrimRecord {
+                        a,
+                        b: Vec3::new(r, 0.0, 0.0),
+                        c: Vec3::ZERO,
+                        id: id as u32,
+                    }
                 }
             })
             .collect();
@@ -228,14 +254,24 @@ impl Geometry {
     #[inline]
     pub fn intersect(&self, ray: &Ray) -> Option<Hit> {
         let tr = TraversalRay::new(ray);
-        let mut best = Closest { t: ray.t_max, id: 0, slot: u32::MAX, uv: Vec2::ZERO };
+        let mut best = Closest {
+            t: ray.t_max,
+            id: 0,
+            slot: u32::MAX,
+            uv: Vec2::ZERO,
+        };
         let n_tri = self.triangles.len() as u32;
         self.traverse(&tr, ray.t_max, |range, t_max| {
             for slot in range {
                 let r = &self.records[slot];
                 if let Some((t, uv)) = tr.primitive(r, n_tri, best.t) {
                     if best.improves(t, r.id) {
-                        best = Closest { t, id: r.id, slot: slot as u32, uv };
+                        best = Closest {
+                            t,
+                            id: r.id,
+                            slot: slot as u32,
+                            uv,
+                        };
                     }
                 }
             }
@@ -253,7 +289,8 @@ impl Geometry {
         let mut blocked = false;
         self.traverse(&tr, ray.t_max, |range, _| {
             blocked = self.records[range].iter().any(|r| {
-                tr.primitive(r, n_tri, ray.t_max).is_some_and(|(t, _)| t < ray.t_max)
+                tr.primitive(r, n_tri, ray.t_max)
+                    .is_some_and(|(t, _)| t < ray.t_max)
             });
             blocked
         });
@@ -263,7 +300,12 @@ impl Geometry {
     /// Stack traversal, nearer child first. `leaf(range, t_max)` tests the records of a leaf,
     /// may shrink `t_max`, and returns true to stop.
     #[inline(always)]
-    fn traverse(&self, tr: &TraversalRay, t_max: f32, mut leaf: impl FnMut(std::ops::Range<usize>, &mut f32) -> bool) {
+    fn traverse(
+        &self,
+        tr: &TraversalRay,
+        t_max: f32,
+        mut leaf: impl FnMut(std::ops::Range<usize>, &mut f32) -> bool,
+    ) {
         if self.depth < STACK_SIZE {
             let mut stack = [0u32; STACK_SIZE];
             self.traverse_with(tr, t_max, &mut stack, &mut leaf);
@@ -287,7 +329,8 @@ impl Geometry {
         if tr.slab(&root.aabb, t_max) == f32::INFINITY {
             return;
         }
-        let leaf_range = |n: &Bvh2Node| n.first_index as usize..(n.first_index + n.prim_count) as usize;
+        let leaf_range =
+            |n: &Bvh2Node| n.first_index as usize..(n.first_index + n.prim_count) as usize;
         if root.is_leaf() {
             leaf(leaf_range(root), &mut t_max);
             return;
@@ -349,11 +392,21 @@ impl Geometry {
     pub fn intersect_brute_force(&self, ray: &Ray) -> Option<Hit> {
         let tr = TraversalRay::new(ray);
         let n_tri = self.triangles.len() as u32;
-        let mut best = Closest { t: ray.t_max, id: 0, slot: u32::MAX, uv: Vec2::ZERO };
+        let mut best = Closest {
+            t: ray.t_max,
+            id: 0,
+            slot: u32::MAX,
+            uv: Vec2::ZERO,
+        };
         for (slot, r) in self.records.iter().enumerate() {
             if let Some((t, uv)) = tr.primitive(r, n_tri, best.t) {
                 if best.improves(t, r.id) {
-                    best = Closest { t, id: r.id, slot: slot as u32, uv };
+                    best = Closest {
+                        t,
+                        id: r.id,
+                        slot: slot as u32,
+                        uv,
+                    };
                 }
             }
         }
@@ -387,11 +440,27 @@ impl Geometry {
                     }
                 }
             };
-            Hit { t, p: p.as_vec3(), ng, ns, uv, material: self.tri_materials[i], prim }
+            Hit {
+                t,
+                p: p.as_vec3(),
+                ng,
+                ns,
+                uv,
+                material: self.tri_materials[i],
+                prim,
+            }
         } else {
             let s = &self.spheres[(prim - n_tri) as usize];
             let (p, ng, uv) = s.surface(ray.at(t));
-            Hit { t, p, ng, ns: ng, uv, material: s.material, prim }
+            Hit {
+                t,
+                p,
+                ng,
+                ns: ng,
+                uv,
+                material: s.material,
+                prim,
+            }
         }
     }
 
@@ -412,7 +481,10 @@ impl Geometry {
 
     /// The triangle with global id `prim` (< triangle_count) and its material.
     pub fn triangle(&self, prim: u32) -> (Triangle, u32) {
-        (self.triangles[prim as usize], self.tri_materials[prim as usize])
+        (
+            self.triangles[prim as usize],
+            self.tri_materials[prim as usize],
+        )
     }
 
     /// The sphere with global id `prim` (>= triangle_count).

@@ -20,13 +20,23 @@ impl TriangleMesh {
     /// A mesh with one material for every triangle and no vertex normals.
     pub fn new(positions: Vec<Vec3>, indices: Vec<[u32; 3]>, material: u32) -> Self {
         let materials = vec![material; indices.len()];
-        TriangleMesh { positions, normals: Vec::new(), indices, materials }
+        TriangleMesh {
+            positions,
+            normals: Vec::new(),
+            indices,
+            materials,
+        }
     }
 
     /// The two triangles of the quad `corner + s * edge_u + t * edge_v`, s, t in [0, 1], whose
     /// normal is `normalize(cross(edge_u, edge_v))`.
     pub fn quad(corner: Vec3, edge_u: Vec3, edge_v: Vec3, material: u32) -> Self {
-        let positions = vec![corner, corner + edge_u, corner + edge_u + edge_v, corner + edge_v];
+        let positions = vec![
+            corner,
+            corner + edge_u,
+            corner + edge_u + edge_v,
+            corner + edge_v,
+        ];
         Self::new(positions, vec![[0, 1, 2], [0, 2, 3]], material)
     }
 }

@@ -23,7 +23,11 @@ const OFFSET_SCALE: f32 = 1.0 / (1 << 18) as f32;
 pub fn offset_origin(p: Vec3, ng: Vec3, dir: Vec3) -> Vec3 {
     let d = (p.abs().max_element() * OFFSET_SCALE).max(f32::MIN_POSITIVE);
     let offset = ng * d;
-    let moved = if dir.dot(ng) >= 0.0 { p + offset } else { p - offset };
+    let moved = if dir.dot(ng) >= 0.0 {
+        p + offset
+    } else {
+        p - offset
+    };
     // Round each coordinate away from p once more so the offset survives the addition.
     let step = |m: f32, o: f32| {
         if o > 0.0 {
@@ -46,7 +50,11 @@ impl Ray {
     /// An unbounded ray.
     #[inline]
     pub fn new(origin: Vec3, dir: Vec3) -> Self {
-        Ray { origin, dir, t_max: f32::INFINITY }
+        Ray {
+            origin,
+            dir,
+            t_max: f32::INFINITY,
+        }
     }
 
     /// A ray leaving the surface point `p` (geometric normal `ng`) in direction `dir`.
@@ -61,10 +69,18 @@ impl Ray {
     pub fn spawn_to(p: Vec3, ng: Vec3, target: Vec3, target_ng: Vec3) -> Self {
         let d = target - p;
         let origin = offset_origin(p, ng, d);
-        let end = if target_ng == Vec3::ZERO { target } else { offset_origin(target, target_ng, -d) };
+        let end = if target_ng == Vec3::ZERO {
+            target
+        } else {
+            offset_origin(target, target_ng, -d)
+        };
         let v = end - origin;
         let len = v.length();
-        Ray { origin, dir: v / len, t_max: len * (1.0 - 1e-6) }
+        Ray {
+            origin,
+            dir: v / len,
+            t_max: len * (1.0 - 1e-6),
+        }
     }
 
     /// The point at parameter `t`.

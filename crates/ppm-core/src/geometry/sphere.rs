@@ -17,7 +17,12 @@ impl Sphere {
     /// An outward-facing sphere; a negative `radius` gives the inward-facing sphere of radius
     /// `|radius|`.
     pub fn new(center: Vec3, radius: f32, material: u32) -> Self {
-        Sphere { center, radius: radius.abs(), material, inward: radius < 0.0 }
+        Sphere {
+            center,
+            radius: radius.abs(),
+            material,
+            inward: radius < 0.0,
+        }
     }
 
     /// The same sphere with its normal pointing inward.
@@ -49,7 +54,11 @@ impl Sphere {
         }
         let p = self.center + r * n;
         let phi = n.y.atan2(n.x);
-        let u = if phi < 0.0 { phi / (2.0 * PI) + 1.0 } else { phi / (2.0 * PI) };
+        let u = if phi < 0.0 {
+            phi / (2.0 * PI) + 1.0
+        } else {
+            phi / (2.0 * PI)
+        };
         let v = n.z.clamp(-1.0, 1.0).acos() / PI;
         let ng = if self.inward { -n } else { n };
         (p, ng, Vec2::new(u, v))
@@ -64,7 +73,13 @@ impl Sphere {
 /// cancel catastrophically for a small sphere far away, and from q = -(b + sign(b) sqrt(a disc)):
 /// t0 = c / q, t1 = q / a, which avoids the cancellation in -b + sqrt(..) of the textbook form.
 #[inline(always)]
-pub(crate) fn intersect_sphere(center: Vec3, r: f32, origin: Vec3, dir: Vec3, t_max: f32) -> Option<f32> {
+pub(crate) fn intersect_sphere(
+    center: Vec3,
+    r: f32,
+    origin: Vec3,
+    dir: Vec3,
+    t_max: f32,
+) -> Option<f32> {
     let f = origin - center;
     let a = dir.length_squared();
     let b = f.dot(dir);
@@ -81,7 +96,11 @@ pub(crate) fn intersect_sphere(center: Vec3, r: f32, origin: Vec3, dir: Vec3, t_
     // starts on the surface (it was spawned there) and the root c / q ~ 0 is that surface
     // point itself, not a new hit.
     let c_err = 8.0 * f32::EPSILON * (ff + r2);
-    let (t0, t1) = if c.abs() <= c_err { (-1.0, q / a) } else { (c / q, q / a) };
+    let (t0, t1) = if c.abs() <= c_err {
+        (-1.0, q / a)
+    } else {
+        (c / q, q / a)
+    };
     let (near, far) = if t0 < t1 { (t0, t1) } else { (t1, t0) };
     if near > 0.0 && near <= t_max {
         Some(near)
@@ -101,7 +120,9 @@ mod tests {
         let s = Sphere::new(Vec3::new(0.0, 0.0, -5.0), 1.0, 0);
         let t = s.intersect(Vec3::ZERO, -Vec3::Z, f32::INFINITY).unwrap();
         assert!((t - 4.0).abs() < 1e-5);
-        let t = s.intersect(Vec3::new(0.0, 0.0, -5.0), Vec3::X, f32::INFINITY).unwrap();
+        let t = s
+            .intersect(Vec3::new(0.0, 0.0, -5.0), Vec3::X, f32::INFINITY)
+            .unwrap();
         assert!((t - 1.0).abs() < 1e-6);
         assert!(s.intersect(Vec3::ZERO, Vec3::Z, f32::INFINITY).is_none());
         assert!(s.intersect(Vec3::ZERO, -Vec3::Z, 3.9).is_none());

@@ -98,7 +98,13 @@ impl ShearedRay {
     /// callers that need a strict bound compare the returned t themselves, so that exactly
     /// equal distances are resolved the same way everywhere.
     #[inline(always)]
-    pub(crate) fn intersect(&self, v0: Vec3, v1: Vec3, v2: Vec3, t_max: f32) -> Option<(f32, f32, f32)> {
+    pub(crate) fn intersect(
+        &self,
+        v0: Vec3,
+        v1: Vec3,
+        v2: Vec3,
+        t_max: f32,
+    ) -> Option<(f32, f32, f32)> {
         let (x0, y0, z0) = self.transform(v0);
         let (x1, y1, z1) = self.transform(v1);
         let (x2, y2, z2) = self.transform(v2);
@@ -110,7 +116,8 @@ impl ShearedRay {
         if e0 == 0.0 || e1 == 0.0 || e2 == 0.0 {
             // The ray passes (in float) through an edge or vertex: decide exactly. Products of
             // two floats are exact in double, so the sign of each difference is exact.
-            let f = |a: f32, b: f32, c: f32, d: f32| (a as f64 * b as f64 - c as f64 * d as f64) as f32;
+            let f =
+                |a: f32, b: f32, c: f32, d: f32| (a as f64 * b as f64 - c as f64 * d as f64) as f32;
             e0 = f(x1, y2, y1, x2);
             e1 = f(x2, y0, y2, x0);
             e2 = f(x0, y1, y0, x1);
@@ -159,7 +166,12 @@ impl ShearedRay {
 /// with t in (0, t_max); the hit point is `(1 - b1 - b2) v0 + b1 v1 + b2 v2`. Hits closer than
 /// the rounding error of t (a ray leaving the triangle itself) are not reported.
 #[inline]
-pub fn intersect_triangle(tri: &Triangle, origin: Vec3, dir: Vec3, t_max: f32) -> Option<(f32, f32, f32)> {
+pub fn intersect_triangle(
+    tri: &Triangle,
+    origin: Vec3,
+    dir: Vec3,
+    t_max: f32,
+) -> Option<(f32, f32, f32)> {
     ShearedRay::new(origin, dir)
         .intersect(tri.v[0], tri.v[1], tri.v[2], t_max)
         .filter(|&(t, _, _)| t < t_max)
@@ -171,8 +183,11 @@ mod tests {
 
     #[test]
     fn hits_the_inside_and_reports_barycentrics() {
-        let tri = Triangle { v: [Vec3::ZERO, Vec3::X, Vec3::Y] };
-        let (t, b1, b2) = intersect_triangle(&tri, Vec3::new(0.25, 0.5, 2.0), -Vec3::Z, 10.0).unwrap();
+        let tri = Triangle {
+            v: [Vec3::ZERO, Vec3::X, Vec3::Y],
+        };
+        let (t, b1, b2) =
+            intersect_triangle(&tri, Vec3::new(0.25, 0.5, 2.0), -Vec3::Z, 10.0).unwrap();
         assert!((t - 2.0).abs() < 1e-6);
         assert!((b1 - 0.25).abs() < 1e-6 && (b2 - 0.5).abs() < 1e-6);
         // From behind, too (no back-face culling), and not beyond t_max or behind the origin.
@@ -184,7 +199,9 @@ mod tests {
 
     #[test]
     fn parallel_ray_misses() {
-        let tri = Triangle { v: [Vec3::ZERO, Vec3::X, Vec3::Y] };
+        let tri = Triangle {
+            v: [Vec3::ZERO, Vec3::X, Vec3::Y],
+        };
         assert!(intersect_triangle(&tri, Vec3::new(-1.0, 0.1, 0.0), Vec3::X, 10.0).is_none());
     }
 }

@@ -11,9 +11,11 @@ mod shading;
 
 pub use direct::{emission_mis_weight, estimate_direct};
 pub use path::PathTracer;
-pub use shading::ShadingFrame;
-pub use ppm::PpmRenderer;
+pub use ppm::{
+    density_estimate, stores_photons, GatherContext, PpmRenderer, RadiusSchedule, MAX_LIGHT_PATHS,
+};
 pub use settings::{Algorithm, DirectMode, LightStrategy, RenderSettings};
+pub use shading::ShadingFrame;
 
 use crate::film::Image;
 use crate::scene::Scene;

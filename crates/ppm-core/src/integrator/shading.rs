@@ -24,10 +24,16 @@ impl ShadingFrame {
         let frame = Frame::new(hit.ns);
         let wo_local = frame.to_local(wo);
         if wo_local.z * wo.dot(hit.ng) > 0.0 {
-            ShadingFrame { frame, wo: wo_local }
+            ShadingFrame {
+                frame,
+                wo: wo_local,
+            }
         } else {
             let frame = Frame::new(hit.ng);
-            ShadingFrame { frame, wo: frame.to_local(wo) }
+            ShadingFrame {
+                frame,
+                wo: frame.to_local(wo),
+            }
         }
     }
 

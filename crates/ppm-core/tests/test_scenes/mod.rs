@@ -6,8 +6,14 @@ use ppm_core::prelude::*;
 /// The camera inside a closed, inward-facing diffuse sphere of albedo `albedo` emitting 1.
 /// Every pixel sees L = 1 / (1 - albedo).
 pub fn furnace(albedo: f32, resolution: u32) -> Scene {
-    let camera =
-        Camera::new(Vec3::ZERO, Vec3::NEG_Z, Vec3::Y, 60.0, (resolution, resolution)).unwrap();
+    let camera = Camera::new(
+        Vec3::ZERO,
+        Vec3::NEG_Z,
+        Vec3::Y,
+        60.0,
+        (resolution, resolution),
+    )
+    .unwrap();
     let mut b = SceneBuilder::new(camera);
     let m = b.add_material(Material::new(Bsdf::diffuse(Vec3::splat(albedo)), Vec3::ONE));
     b.add_sphere(Sphere::new(Vec3::ZERO, 1.0, m).inward());
@@ -44,9 +50,18 @@ pub fn cornell_builder(resolution: u32, contents: BoxContents) -> SceneBuilder {
     .unwrap();
     let mut b = SceneBuilder::new(camera);
     let white = b.add_material(Material::new(Bsdf::diffuse(Vec3::splat(0.73)), Vec3::ZERO));
-    let red = b.add_material(Material::new(Bsdf::diffuse(Vec3::new(0.63, 0.06, 0.05)), Vec3::ZERO));
-    let green = b.add_material(Material::new(Bsdf::diffuse(Vec3::new(0.14, 0.45, 0.09)), Vec3::ZERO));
-    let lamp = b.add_material(Material::new(Bsdf::diffuse(Vec3::splat(0.78)), Vec3::new(17.0, 12.0, 4.0)));
+    let red = b.add_material(Material::new(
+        Bsdf::diffuse(Vec3::new(0.63, 0.06, 0.05)),
+        Vec3::ZERO,
+    ));
+    let green = b.add_material(Material::new(
+        Bsdf::diffuse(Vec3::new(0.14, 0.45, 0.09)),
+        Vec3::ZERO,
+    ));
+    let lamp = b.add_material(Material::new(
+        Bsdf::diffuse(Vec3::splat(0.78)),
+        Vec3::new(17.0, 12.0, 4.0),
+    ));
     let floor_material = if contents == BoxContents::Glossy {
         b.add_material(Material::new(
             Bsdf::phong(Vec3::splat(0.3), Vec3::splat(0.5), 30.0),
@@ -59,13 +74,33 @@ pub fn cornell_builder(resolution: u32, contents: BoxContents) -> SceneBuilder {
         TriangleMesh::quad(Vec3::from(c), Vec3::from(u), Vec3::from(v), m)
     };
     // Inward-facing walls: normal = cross(edge_u, edge_v) points into the box.
-    b.add_mesh(q([-1.0, 0.0, -1.0], [0.0, 0.0, 2.0], [2.0, 0.0, 0.0], floor_material)); // floor, +y
-    b.add_mesh(q([-1.0, 2.0, -1.0], [2.0, 0.0, 0.0], [0.0, 0.0, 2.0], white)); // ceiling, -y
-    b.add_mesh(q([-1.0, 0.0, -1.0], [2.0, 0.0, 0.0], [0.0, 2.0, 0.0], white)); // back, +z
+    b.add_mesh(q(
+        [-1.0, 0.0, -1.0],
+        [0.0, 0.0, 2.0],
+        [2.0, 0.0, 0.0],
+        floor_material,
+    )); // floor, +y
+    b.add_mesh(q(
+        [-1.0, 2.0, -1.0],
+        [2.0, 0.0, 0.0],
+        [0.0, 0.0, 2.0],
+        white,
+    )); // ceiling, -y
+    b.add_mesh(q(
+        [-1.0, 0.0, -1.0],
+        [2.0, 0.0, 0.0],
+        [0.0, 2.0, 0.0],
+        white,
+    )); // back, +z
     b.add_mesh(q([-1.0, 0.0, 1.0], [0.0, 2.0, 0.0], [2.0, 0.0, 0.0], white)); // front, -z
     b.add_mesh(q([-1.0, 0.0, -1.0], [0.0, 2.0, 0.0], [0.0, 0.0, 2.0], red)); // left, +x
     b.add_mesh(q([1.0, 0.0, -1.0], [0.0, 0.0, 2.0], [0.0, 2.0, 0.0], green)); // right, -x
-    b.add_mesh(q([-0.25, 1.98, -0.25], [0.5, 0.0, 0.0], [0.0, 0.0, 0.5], lamp)); // light, -y
+    b.add_mesh(q(
+        [-0.25, 1.98, -0.25],
+        [0.5, 0.0, 0.0],
+        [0.0, 0.0, 0.5],
+        lamp,
+    )); // light, -y
     match contents {
         BoxContents::Diffuse => add_block(&mut b, Vec3::new(-0.35, 0.0, -0.3), 0.5, 0.8, white),
         BoxContents::Glass => {
@@ -89,12 +124,12 @@ pub fn add_block(b: &mut SceneBuilder, base: Vec3, size: f32, height: f32, m: u3
     let lo = base - Vec3::new(size / 2.0, 0.0, size / 2.0);
     let (x, y, z) = (Vec3::X * size, Vec3::Y * height, Vec3::Z * size);
     let faces = [
-        (lo + y, z, x),         // top, +y
-        (lo, x, z),             // bottom, -y
-        (lo, y, x),             // back, -z
-        (lo + z, x, y),         // front, +z
-        (lo, z, y),             // left, -x
-        (lo + x, y, z),         // right, +x
+        (lo + y, z, x), // top, +y
+        (lo, x, z),     // bottom, -y
+        (lo, y, x),     // back, -z
+        (lo + z, x, y), // front, +z
+        (lo, z, y),     // left, -x
+        (lo + x, y, z), // right, +x
     ];
     for (c, u, v) in faces {
         b.add_mesh(TriangleMesh::quad(c, u, v, m));
@@ -104,16 +139,33 @@ pub fn add_block(b: &mut SceneBuilder, base: Vec3, size: f32, height: f32, m: u3
 /// Per-pixel running mean and variance of iteration estimates (f64).
 pub struct PixelStats {
     pub n: u64,
+    /// Sum and sum of squares of the per-iteration image means (pixels of one iteration are
+    /// correlated in photon mapping, iterations are independent).
+    image_sum: f64,
+    image_sum2: f64,
     sum: Vec<[f64; 3]>,
     sum2: Vec<[f64; 3]>,
 }
 
 impl PixelStats {
     pub fn new(pixels: usize) -> Self {
-        PixelStats { n: 0, sum: vec![[0.0; 3]; pixels], sum2: vec![[0.0; 3]; pixels] }
+        PixelStats {
+            n: 0,
+            image_sum: 0.0,
+            image_sum2: 0.0,
+            sum: vec![[0.0; 3]; pixels],
+            sum2: vec![[0.0; 3]; pixels],
+        }
     }
 
     pub fn add(&mut self, estimates: &[Vec3]) {
+        let m = estimates
+            .iter()
+            .map(|e| (e.x + e.y + e.z) as f64)
+            .sum::<f64>()
+            / (3 * estimates.len()) as f64;
+        self.image_sum += m;
+        self.image_sum2 += m * m;
         for (i, e) in estimates.iter().enumerate() {
             for c in 0..3 {
                 let v = e[c] as f64;
@@ -139,6 +191,13 @@ impl PixelStats {
 
     pub fn pixels(&self) -> usize {
         self.sum.len()
+    }
+
+    /// Standard error of [`PixelStats::image_mean`], from the spread of the iteration means.
+    pub fn image_mean_se(&self) -> f64 {
+        let n = self.n as f64;
+        let m = self.image_sum / n;
+        ((self.image_sum2 / n - m * m).max(0.0) / (n - 1.0)).sqrt()
     }
 
     /// Mean over all pixels and channels.
@@ -172,7 +231,10 @@ pub fn z_scores(a: &PixelStats, b: &PixelStats) -> Vec<f64> {
             if v > 0.0 {
                 z.push(d / v.sqrt());
             } else {
-                assert!(d.abs() < 1e-9, "pixel {i}: zero variance but means differ by {d}");
+                assert!(
+                    d.abs() < 1e-9,
+                    "pixel {i}: zero variance but means differ by {d}"
+                );
             }
         }
     }

@@ -30,7 +30,11 @@ impl PathTracer {
     /// A fresh render.
     pub fn new(scene: &Scene, settings: RenderSettings) -> Self {
         let (w, h) = (scene.camera.width, scene.camera.height);
-        PathTracer { settings, film: Film::new(w, h), estimates: vec![Vec3::ZERO; (w * h) as usize] }
+        PathTracer {
+            settings,
+            film: Film::new(w, h),
+            estimates: vec![Vec3::ZERO; (w * h) as usize],
+        }
     }
 
     /// Traces one path through every pixel and adds the result to the film.
@@ -51,7 +55,8 @@ impl PathTracer {
                 for (i, out) in rows.iter_mut().enumerate() {
                     let pixel = tile * width * TILE_ROWS + i;
                     let mut rng = Rng::new(settings.seed, iteration, pixel as u64);
-                    let film = Vec2::new((pixel % width) as f32, (pixel / width) as f32) + rng.uniform2();
+                    let film =
+                        Vec2::new((pixel % width) as f32, (pixel / width) as f32) + rng.uniform2();
                     let ray = scene.camera.generate_ray(film);
                     *out = tracer::radiance(scene, settings, ray, &mut rng, &mut counters);
                 }

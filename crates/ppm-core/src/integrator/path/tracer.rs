@@ -1,7 +1,7 @@
 //! The per-path kernel of the path tracer.
 
 use crate::bsdf::{Lobe, TransportMode};
-use crate::geometry::{Ray};
+use crate::geometry::Ray;
 use crate::integrator::direct::{emission_mis_weight, estimate_direct};
 use crate::integrator::shading::ShadingFrame;
 use crate::integrator::{LightStrategy, RenderSettings};
@@ -19,7 +19,10 @@ pub struct PathCounters {
 impl PathCounters {
     /// Sum of two counters.
     pub fn merge(a: Self, b: Self) -> Self {
-        PathCounters { rays: a.rays + b.rays, shadow_rays: a.shadow_rays + b.shadow_rays }
+        PathCounters {
+            rays: a.rays + b.rays,
+            shadow_rays: a.shadow_rays + b.shadow_rays,
+        }
     }
 }
 
@@ -46,7 +49,9 @@ pub fn radiance(
     let mut prev_p = ray.origin;
     for depth in 0..=settings.max_depth {
         counters.rays += 1;
-        let Some(hit) = scene.intersect(&ray) else { break };
+        let Some(hit) = scene.intersect(&ray) else {
+            break;
+        };
         let material = scene.material(&hit);
         let wo = -ray.dir;
 
@@ -77,7 +82,9 @@ pub fn radiance(
 
         let u_lobe = rng.uniform();
         let u = rng.uniform2();
-        let Some(s) = bsdf.sample(sf.wo, u_lobe, u, TransportMode::Radiance) else { break };
+        let Some(s) = bsdf.sample(sf.wo, u_lobe, u, TransportMode::Radiance) else {
+            break;
+        };
         let wi = sf.frame.to_world(s.wi);
         if !sf.consistent(&hit, wo, wi, s.wi) {
             break;

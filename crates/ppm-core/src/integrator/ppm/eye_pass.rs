@@ -49,16 +49,21 @@ pub fn density_estimate(
     wo: Vec3,
     bsdf: &Bsdf,
 ) -> Vec3 {
-    let n_view = if wo.dot(hit.ng) >= 0.0 { hit.ng } else { -hit.ng };
+    let n_view = if wo.dot(hit.ng) >= 0.0 {
+        hit.ng
+    } else {
+        -hit.ng
+    };
     let mut sum = Vec3::ZERO;
-    ctx.grid.for_each_in_radius(hit.p, ctx.radius, |photon, d2| {
-        let wi = photon.wi();
-        if wi.dot(n_view) <= 0.0 {
-            return;
-        }
-        let f = bsdf.eval(sf.wo, sf.frame.to_local(wi), TransportMode::Radiance);
-        sum += f * photon.flux * ctx.kernel.weight(d2);
-    });
+    ctx.grid
+        .for_each_in_radius(hit.p, ctx.radius, |photon, d2| {
+            let wi = photon.wi();
+            if wi.dot(n_view) <= 0.0 {
+                return;
+            }
+            let f = bsdf.eval(sf.wo, sf.frame.to_local(wi), TransportMode::Radiance);
+            sum += f * photon.flux * ctx.kernel.weight(d2);
+        });
     sum * ctx.inv_paths
 }
 
@@ -96,12 +101,17 @@ pub fn trace_eye_path(
     let mut prev_p = ray.origin;
     for depth in 0..=settings.max_depth {
         counters.rays += 1;
-        let Some(hit) = scene.intersect(&ray) else { break };
+        let Some(hit) = scene.intersect(&ray) else {
+            break;
+        };
         let material = scene.material(&hit);
         let wo = -ray.dir;
         if material.is_emissive() && wo.dot(hit.ng) > 0.0 {
-            let weight =
-                if prev_specular { 1.0 } else { emission_mis_weight(scene, prev_p, prev_pdf, &hit) };
+            let weight = if prev_specular {
+                1.0
+            } else {
+                emission_mis_weight(scene, prev_p, prev_pdf, &hit)
+            };
             l += throughput * material.emission * weight;
         }
         if depth == settings.max_depth {
@@ -134,7 +144,10 @@ pub fn trace_eye_path(
                 if p.specular.max_element() <= 0.0 {
                     break;
                 }
-                let glossy = Bsdf::Phong(Phong { diffuse: Vec3::ZERO, ..*p });
+                let glossy = Bsdf::Phong(Phong {
+                    diffuse: Vec3::ZERO,
+                    ..*p
+                });
                 let (ld, traced) = estimate_direct(scene, &hit, &sf, wo, &glossy, &mut rng, true);
                 counters.shadow_rays += traced as u64;
                 l += throughput * ld;

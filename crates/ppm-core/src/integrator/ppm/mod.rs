@@ -75,7 +75,14 @@ impl PpmRenderer {
                     let mut writer = buffer.writer();
                     let end = ((task + 1) * PATHS_PER_TASK).min(paths);
                     for path in task * PATHS_PER_TASK..end {
-                        trace_light_path(scene, settings, iteration, path, &mut writer, &mut counters);
+                        trace_light_path(
+                            scene,
+                            settings,
+                            iteration,
+                            path,
+                            &mut writer,
+                            &mut counters,
+                        );
                     }
                     counters
                 })
@@ -114,7 +121,15 @@ impl PpmRenderer {
                 let mut counters = EyeCounters::default();
                 for (i, out) in pixels.iter_mut().enumerate() {
                     let pixel = task * PIXELS_PER_TASK + i;
-                    *out = trace_eye_path(scene, settings, &ctx, iteration, pixel, width, &mut counters);
+                    *out = trace_eye_path(
+                        scene,
+                        settings,
+                        &ctx,
+                        iteration,
+                        pixel,
+                        width,
+                        &mut counters,
+                    );
                 }
                 counters
             })

@@ -60,7 +60,9 @@ pub fn trace_light_path(
 ) {
     let mut rng = Rng::new(settings.seed ^ PHOTON_STREAM, iteration, path as u64);
     let (u_light, u_pos, u_dir) = (rng.uniform(), rng.uniform2(), rng.uniform2());
-    let Some(emission) = scene.sample_emission(u_light, u_pos, u_dir) else { return };
+    let Some(emission) = scene.sample_emission(u_light, u_pos, u_dir) else {
+        return;
+    };
     let mut flux = emission.flux;
     if !(flux.max_element() > 0.0) || !flux.is_finite() {
         return;
@@ -72,7 +74,9 @@ pub fn trace_light_path(
     };
     for bounce in 0..settings.max_depth {
         counters.rays += 1;
-        let Some(hit) = scene.intersect(&ray) else { return };
+        let Some(hit) = scene.intersect(&ray) else {
+            return;
+        };
         let bsdf = &scene.material(&hit).bsdf;
         // The photon arrived along ray.dir: its incoming direction points back along the ray.
         let wo = -ray.dir;
@@ -83,7 +87,9 @@ pub fn trace_light_path(
         }
         let sf = ShadingFrame::new(&hit, wo);
         let (u_lobe, u) = (rng.uniform(), rng.uniform2());
-        let Some(s) = bsdf.sample(sf.wo, u_lobe, u, TransportMode::Importance) else { return };
+        let Some(s) = bsdf.sample(sf.wo, u_lobe, u, TransportMode::Importance) else {
+            return;
+        };
         let wi = sf.frame.to_world(s.wi);
         if !sf.consistent(&hit, wo, wi, s.wi) {
             return;

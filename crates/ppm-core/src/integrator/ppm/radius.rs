@@ -21,7 +21,11 @@ pub struct RadiusSchedule {
 impl RadiusSchedule {
     /// The schedule starting at `radius` for iteration 1.
     pub fn new(radius: f32, alpha: f32) -> Self {
-        RadiusSchedule { r2: (radius as f64).powi(2), alpha: alpha as f64, iteration: 1 }
+        RadiusSchedule {
+            r2: (radius as f64).powi(2),
+            alpha: alpha as f64,
+            iteration: 1,
+        }
     }
 
     /// The radius of the current iteration.
@@ -79,10 +83,14 @@ mod tests {
             for n in 1..=100_000u64 {
                 if n.is_power_of_two() || n == 100_000 {
                     let nf = n as f64;
-                    let closed = r1
-                        * (ln_gamma(nf + a) - ln_gamma(1.0 + a) - ln_gamma(nf + 1.0)).exp();
+                    let closed =
+                        r1 * (ln_gamma(nf + a) - ln_gamma(1.0 + a) - ln_gamma(nf + 1.0)).exp();
                     let rel = (s.radius2() - closed).abs() / closed;
-                    assert!(rel < 1e-9, "alpha {alpha} n {n}: {} vs {closed}", s.radius2());
+                    assert!(
+                        rel < 1e-9,
+                        "alpha {alpha} n {n}: {} vs {closed}",
+                        s.radius2()
+                    );
                 }
                 s.advance();
             }
@@ -101,7 +109,10 @@ mod tests {
         }
         // n^(alpha-1) / Gamma(1 + alpha) at n = 1e6: about 1.73e-2 for alpha = 0.7.
         let ratio = s.radius2() / 1e-6;
-        assert!((ratio - 1e6f64.powf(-0.3) / (ln_gamma(1.7)).exp()).abs() / ratio < 1e-3, "{ratio}");
+        assert!(
+            (ratio - 1e6f64.powf(-0.3) / (ln_gamma(1.7)).exp()).abs() / ratio < 1e-3,
+            "{ratio}"
+        );
         assert!(s.radius() > 0.0);
     }
 }
