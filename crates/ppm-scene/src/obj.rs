@@ -124,7 +124,10 @@ pub fn parse_obj(
     // Local index of each MTL material, created on first use (so unused ones are left out).
     let mut local: Vec<Option<u32>> = vec![None; all.len()];
     let mut default_index = None;
-    let mut stats = CleanStats::default();
+    let mut stats = CleanStats {
+        degenerate: prepared.degenerate,
+        ..Default::default()
+    };
     for model in &models {
         let material = match materials {
             ObjMaterials::Ignore => 0,
@@ -252,6 +255,8 @@ struct Prepared {
     mtllibs: Vec<(usize, String)>,
     /// Each `usemtl` statement: its line and the material name.
     usemtl: Vec<(usize, String)>,
+    /// Faces dropped for having no area.
+    degenerate: usize,
 }
 
 /// Checks and rewrites OBJ text line by line (see the module docs). The output has only
@@ -263,8 +268,15 @@ fn prepare(text: &str, path: &Path, warnings: &mut Vec<String>) -> Result<Prepar
         text: String::new(),
         mtllibs: Vec::new(),
         usemtl: Vec::new(),
+        degenerate: 0,
     };
-    let (mut n_positions, mut n_normals) = (0i64, 0i64);
+    let mut positions: Vec<Vec3> = Vec::new();
+    // Output index of each `vn` of the file: flat normals we add shift the numbering.
+    let mut normal_index: Vec<usize> = Vec::new();
+    let mut emitted_normals = 0usize;
+    // In a file with vertex normals, faces without them get their flat normal: tobj can
+    // only give a mesh normals on all vertices or on none.
+    let file_has_normals = text.lines().any(|l| l.trim_start().starts_with("vn"));
     let (mut short_faces, mut skipped_elements) = (0usize, 0usize);
     let mut unknown: Vec<String> = Vec::new();
 
@@ -288,7 +300,7 @@ fn prepare(text: &str, path: &Path, warnings: &mut Vec<String>) -> Result<Prepar
                     n => return Err(err(format!("`v` needs x y z [w], found {n} numbers"))),
                 };
                 let _ = writeln!(body, "v {} {} {}", p.x, p.y, p.z);
-                n_positions += 1;
+                positions.push(p);
             }
             "vn" => {
                 let n = numbers(&args, path, line_no, "vn")?;
@@ -296,22 +308,34 @@ fn prepare(text: &str, path: &Path, warnings: &mut Vec<String>) -> Result<Prepar
                     return Err(err(format!("`vn` needs x y z, found {} numbers", n.len())));
                 }
                 let _ = writeln!(body, "vn {} {} {}", n[0], n[1], n[2]);
-                n_normals += 1;
+                emitted_normals += 1;
+                normal_index.push(emitted_normals);
             }
             "f" | "fo" => {
                 let mut vertices = Vec::with_capacity(args.len());
                 for token in &args {
-                    vertices.push(face_vertex(token, n_positions, n_normals, path, line_no)?);
+                    let (v, n) =
+                        face_vertex(token, positions.len(), normal_index.len(), path, line_no)?;
+                    vertices.push((v, n.map(|n| normal_index[n - 1])));
                 }
                 if vertices.len() < 3 {
                     short_faces += 1;
                     continue;
                 }
-                // A face with a normal on some vertices only gets none (tobj needs all or none).
-                let with_normals = vertices.iter().all(|(_, n)| n.is_some());
+                let mut flat = None;
+                if file_has_normals && vertices.iter().any(|(_, n)| n.is_none()) {
+                    let newell = newell_normal(vertices.iter().map(|&(v, _)| positions[v - 1]));
+                    let Some(n) = safe_normalize(newell) else {
+                        out.degenerate += 1;
+                        continue;
+                    };
+                    let _ = writeln!(body, "vn {} {} {}", n.x, n.y, n.z);
+                    emitted_normals += 1;
+                    flat = Some(emitted_normals);
+                }
                 body.push('f');
                 for (v, n) in vertices {
-                    match n.filter(|_| with_normals) {
+                    match flat.or(n) {
                         Some(n) => write!(body, " {v}//{n}"),
                         None => write!(body, " {v}"),
                     }
@@ -414,11 +438,11 @@ fn numbers(
 /// indices. Negative indices count back from the last element defined so far (-1 = last).
 fn face_vertex(
     token: &str,
-    n_positions: i64,
-    n_normals: i64,
+    n_positions: usize,
+    n_normals: usize,
     path: &Path,
     line_no: usize,
-) -> Result<(i64, Option<i64>), LoadError> {
+) -> Result<(usize, Option<usize>), LoadError> {
     let err = |message: String| LoadError::parse(path, line_no, message);
     let mut parts = token.split('/');
     let v = parts.next().unwrap_or("");
@@ -434,7 +458,8 @@ fn face_vertex(
             "face vertex `{token}`: `{vt}` is not a texture coordinate index"
         )));
     }
-    let resolve = |s: &str, count: i64, what: &str| -> Result<i64, LoadError> {
+    let resolve = |s: &str, count: usize, what: &str, plural: &str| -> Result<usize, LoadError> {
+        let count = count as i64;
         let i: i64 = s.parse().map_err(|_| {
             err(format!(
                 "face vertex `{token}`: `{s}` is not a {what} index"
@@ -443,16 +468,16 @@ fn face_vertex(
         let absolute = if i < 0 { count + 1 + i } else { i };
         if i == 0 || absolute < 1 || absolute > count {
             return Err(err(format!(
-                "face vertex `{token}`: {what} index {i} is out of range ({count} {what}s defined before this line; indices start at 1, negative ones count back from the last)"
+                "face vertex `{token}`: {what} index {i} is out of range ({count} {plural} defined before this line; indices start at 1, negative ones count back from the last)"
             )));
         }
-        Ok(absolute)
+        Ok(absolute as usize)
     };
-    let position = resolve(v, n_positions, "vertex")?;
+    let position = resolve(v, n_positions, "vertex", "vertices")?;
     let normal = if vn.is_empty() {
         None
     } else {
-        Some(resolve(vn, n_normals, "normal")?)
+        Some(resolve(vn, n_normals, "normal", "normals")?)
     };
     Ok((position, normal))
 }
@@ -585,6 +610,14 @@ fn clean(
         indices,
         materials,
     })
+}
+
+/// The normal of a polygon, |n| = 2 area, robust for non-planar ones (Newell's method).
+fn newell_normal(points: impl Iterator<Item = Vec3> + Clone) -> Vec3 {
+    let next = points.clone().cycle().skip(1);
+    points
+        .zip(next)
+        .fold(Vec3::ZERO, |n, (a, b)| n + (a - b).cross(a + b) * 0.5)
 }
 
 /// `v / |v|` when that is a finite unit vector, even for components near the f32 limits.
