@@ -172,7 +172,7 @@ impl<'de> Deserialize<'de> for Count {
         impl Visitor<'_> for V {
             type Value = Count;
             fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-                write!(f, "a whole number in 1..={}", u32::MAX)
+                write!(f, "a whole number >= 1 (at most {})", u32::MAX)
             }
             fn visit_u64<E: de::Error>(self, x: u64) -> Result<Count, E> {
                 match u32::try_from(x) {

@@ -7,7 +7,7 @@
 use crate::values::{
     Alpha, Count, FieldOfView, NonNegative, Num, Point, Positive, Reflectance, Resolution, Triple,
 };
-use serde::de::{self, Deserializer, MapAccess, Visitor};
+use serde::de::{self, DeserializeSeed, Deserializer, MapAccess, Visitor};
 use serde::Deserialize;
 use std::fmt;
 
@@ -114,6 +114,30 @@ pub struct RenderDesc {
     pub alpha: Option<Num<Alpha>>,
 }
 
+/// A seed that rejects the definition of a material name seen before.
+struct Duplicate(String);
+
+impl<'de> DeserializeSeed<'de> for Duplicate {
+    type Value = ();
+    fn deserialize<D: Deserializer<'de>>(self, d: D) -> Result<(), D::Error> {
+        // The error must come from a visitor to carry the value's line.
+        d.deserialize_any(self)
+    }
+}
+
+impl<'de> Visitor<'de> for Duplicate {
+    type Value = ();
+    fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "no second definition of material `{}`", self.0)
+    }
+    fn visit_map<A: MapAccess<'de>>(self, _: A) -> Result<(), A::Error> {
+        Err(de::Error::custom(format!(
+            "material `{}` is defined twice",
+            self.0
+        )))
+    }
+}
+
 impl<'de> Deserialize<'de> for Materials {
     fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
         struct V;
@@ -126,9 +150,10 @@ impl<'de> Deserialize<'de> for Materials {
                 let mut out: Vec<(String, MaterialDesc)> = Vec::new();
                 while let Some(name) = map.next_key::<String>()? {
                     if out.iter().any(|(n, _)| *n == name) {
-                        return Err(de::Error::custom(format!(
-                            "material `{name}` is defined twice"
-                        )));
+                        // Fail inside the value, so the error points at the second definition.
+                        return map
+                            .next_value_seed(Duplicate(name))
+                            .map(|_| Materials(Vec::new()));
                     }
                     let m = map.next_value()?;
                     out.push((name, m));
