@@ -1,9 +1,33 @@
 //! # ppm-scene
 //!
-//! Scene format v1 (one YAML file, see `docs/scene-format.md`) and OBJ/MTL meshes, loaded into
-//! a [`ppm_core::scene::Scene`]. TODO(scene helper): implement.
+//! Scene format v1 (one YAML file, specified in `docs/scene-format.md`) and Wavefront OBJ/MTL
+//! meshes, loaded into a [`ppm_core::scene::Scene`].
+//!
+//! Loading never panics on bad input: every problem becomes a [`LoadError`] whose message
+//! starts with the file and the line (and column) or field path, e.g.
+//! `scenes/box.yml:7:22: materials.white.color: component 1 is -0.5, expected a reflectance in [0, 1]`.
+//! Problems the loader can work around (a missing MTL file, degenerate triangles, unusable
+//! vertex normals, an MTL material that would create energy) become warnings naming the file.
+//!
+//! ```no_run
+//! let loaded = ppm_scene::load_scene(std::path::Path::new("scenes/cornell_box.yml"))?;
+//! for w in &loaded.warnings {
+//!     eprintln!("warning: {w}");
+//! }
+//! # Ok::<(), ppm_scene::LoadError>(())
+//! ```
 
-use ppm_core::scene::Scene;
+mod build;
+mod error;
+pub mod mtl;
+pub mod obj;
+mod values;
+mod yaml;
+
+pub use build::DEFAULT_RESOLUTION;
+pub use error::LoadError;
+
+use ppm_core::scene::{Scene, SceneBuilder};
 use std::path::{Path, PathBuf};
 
 /// A loaded scene and the warnings met on the way (unknown MTL files, degenerate triangles...).
@@ -12,19 +36,30 @@ pub struct LoadedScene {
     pub warnings: Vec<String>,
 }
 
-/// Why a scene could not be loaded. The message names the file and the line, field or path.
-#[derive(Debug, thiserror::Error)]
-pub enum LoadError {
-    #[error("{0}")]
-    Todo(String),
+/// Loads a scene file (scene format v1) and builds the scene (BVH, lights).
+pub fn load_scene(path: &Path) -> Result<LoadedScene, LoadError> {
+    let (builder, warnings) = load_scene_builder(path)?;
+    let scene = builder.build().map_err(|source| LoadError::Scene {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    Ok(LoadedScene { scene, warnings })
 }
 
-/// Loads a scene file (scene format v1).
-pub fn load_scene(path: &Path) -> Result<LoadedScene, LoadError> {
-    Err(LoadError::Todo(format!(
-        "{}: loader not written yet",
-        path.display()
-    )))
+/// Reads and checks a scene file and the meshes it references, without building the BVH:
+/// the scene's parts and the warnings met on the way.
+pub fn load_scene_builder(path: &Path) -> Result<(SceneBuilder, Vec<String>), LoadError> {
+    let text = obj::read_text(path, "scene file")?;
+    parse_scene(&text, path)
+}
+
+/// Like [`load_scene_builder`] for scene text already in memory; `path` names it in messages
+/// and relative file names (meshes) are resolved against its folder.
+pub fn parse_scene(text: &str, path: &Path) -> Result<(SceneBuilder, Vec<String>), LoadError> {
+    let file: yaml::SceneFile = serde_yaml::from_str(text).map_err(|e| LoadError::yaml(path, e))?;
+    let mut warnings = Vec::new();
+    let builder = build::build(file, path, &mut warnings)?;
+    Ok((builder, warnings))
 }
 
 /// The scene file a command-line argument names: the path as given if it exists, otherwise

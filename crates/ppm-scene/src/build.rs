@@ -1,0 +1,307 @@
+//! From a parsed scene file to a [`SceneBuilder`]: the checks that need context (which
+//! fields a type takes, material names, camera geometry) and the mapping to ppm-core types.
+
+use crate::error::LoadError;
+use crate::obj::{self, ObjMaterials};
+use crate::yaml::{LightType, MaterialDesc, MaterialType, ObjectDesc, ObjectType, SceneFile};
+use glam::Vec3;
+use ppm_core::bsdf::Bsdf;
+use ppm_core::camera::Camera;
+use ppm_core::geometry::{Sphere, TriangleMesh};
+use ppm_core::light::PointLight;
+use ppm_core::material::Material;
+use ppm_core::scene::{RenderDefaults, SceneBuilder};
+use std::path::Path;
+
+/// Image size when the scene file gives none.
+pub const DEFAULT_RESOLUTION: (u32, u32) = (512, 512);
+
+/// Assembles the scene described by `file`, read from `path` (which locates relative files).
+pub fn build(
+    file: SceneFile,
+    path: &Path,
+    warnings: &mut Vec<String>,
+) -> Result<SceneBuilder, LoadError> {
+    let c = &file.camera;
+    let resolution = file
+        .resolution
+        .map(|r| (r.0, r.1))
+        .unwrap_or(DEFAULT_RESOLUTION);
+    let camera = Camera::new(c.position.0, c.look_at.0, c.up.0, c.fov.0, resolution)
+        .map_err(|e| LoadError::invalid(path, "camera", e.to_string()))?;
+    let mut builder = SceneBuilder::new(camera);
+
+    let materials = file.materials.map(|m| m.0).unwrap_or_default();
+    let mut used = vec![false; materials.len()];
+    for (name, desc) in &materials {
+        let m = material(name, desc, path)?;
+        builder.add_material(m);
+    }
+    let lookup = |name: &str, field: &str, used: &mut Vec<bool>| -> Result<u32, LoadError> {
+        match materials.iter().position(|(n, _)| n == name) {
+            Some(i) => {
+                used[i] = true;
+                Ok(i as u32)
+            }
+            None => {
+                let defined: Vec<&str> = materials.iter().map(|(n, _)| n.as_str()).collect();
+                let defined = if defined.is_empty() {
+                    "no materials are defined".into()
+                } else {
+                    format!("defined: {}", defined.join(", "))
+                };
+                Err(LoadError::invalid(
+                    path,
+                    field,
+                    format!("undefined material `{name}` ({defined})"),
+                ))
+            }
+        }
+    };
+
+    for (i, o) in file.objects.unwrap_or_default().iter().enumerate() {
+        let field = format!("objects[{i}]");
+        check_fields(
+            path,
+            &field,
+            object_type_name(o.kind),
+            &object_fields(o),
+            allowed_object_fields(o.kind),
+        )?;
+        let kind = object_type_name(o.kind);
+        let need =
+            |name: &str| LoadError::invalid(path, &field, format!("a {kind} needs `{name}`"));
+        let material = match &o.material {
+            Some(name) => Some(lookup(name, &format!("{field}.material"), &mut used)?),
+            None => None,
+        };
+        match o.kind {
+            ObjectType::Mesh => {
+                let file = o.file.as_deref().ok_or_else(|| need("file"))?;
+                add_mesh(&mut builder, path, &field, file, material, warnings)?;
+            }
+            ObjectType::Sphere => {
+                let center = o.center.as_ref().ok_or_else(|| need("center"))?.0;
+                let radius = o.radius.as_ref().ok_or_else(|| need("radius"))?.0;
+                let sphere = Sphere::new(center, radius, material.ok_or_else(|| need("material"))?);
+                builder.add_sphere(if o.inward == Some(true) {
+                    sphere.inward()
+                } else {
+                    sphere
+                });
+            }
+            ObjectType::Quad => {
+                let corner = o.corner.as_ref().ok_or_else(|| need("corner"))?.0;
+                let u = o.edge_u.as_ref().ok_or_else(|| need("edge_u"))?.0;
+                let v = o.edge_v.as_ref().ok_or_else(|| need("edge_v"))?.0;
+                let m = material.ok_or_else(|| need("material"))?;
+                let n = u.cross(v);
+                if !(n.is_finite() && n.length() > 1e-6 * u.length() * v.length()) {
+                    return Err(LoadError::invalid(
+                        path,
+                        field,
+                        "edge_u and edge_v are zero or parallel: the quad has no area",
+                    ));
+                }
+                builder.add_mesh(TriangleMesh::quad(corner, u, v, m));
+            }
+        }
+    }
+
+    for l in file.lights.unwrap_or_default() {
+        match l.kind {
+            LightType::Point => builder.add_point_light(PointLight {
+                position: l.position.0,
+                intensity: l.intensity.0,
+            }),
+        }
+    }
+
+    let mut defaults = RenderDefaults::default();
+    if let Some(r) = file.render {
+        if let Some(d) = r.max_depth {
+            defaults.max_depth = d.0;
+        }
+        if let Some(p) = r.photons {
+            defaults.photons = p.0;
+        }
+        if let Some(radius) = r.radius {
+            defaults.radius = Some(radius.0);
+        }
+        if let Some(a) = r.alpha {
+            defaults.alpha = a.0;
+        }
+    }
+    builder.defaults = defaults;
+
+    for ((name, _), used) in materials.iter().zip(&used) {
+        if !used {
+            warnings.push(format!("{}: materials.{name}: never used", path.display()));
+        }
+    }
+    let emits = |m: u32| builder.materials[m as usize].is_emissive();
+    let has_light = !builder.point_lights.is_empty()
+        || builder.spheres.iter().any(|s| emits(s.material))
+        || builder
+            .meshes
+            .iter()
+            .any(|mesh| mesh.materials.iter().any(|&m| emits(m)));
+    if !has_light {
+        warnings.push(format!(
+            "{}: the scene has no light (no emissive material on any object, no point light): the image will be black",
+            path.display()
+        ));
+    }
+    Ok(builder)
+}
+
+/// Loads an OBJ and adds its meshes, with `material` for everything or its MTL materials.
+fn add_mesh(
+    builder: &mut SceneBuilder,
+    scene: &Path,
+    field: &str,
+    file: &str,
+    material: Option<u32>,
+    warnings: &mut Vec<String>,
+) -> Result<(), LoadError> {
+    let obj_path = scene.parent().unwrap_or(Path::new("")).join(file);
+    let policy = if material.is_some() {
+        ObjMaterials::Ignore
+    } else {
+        ObjMaterials::FromMtl
+    };
+    let data = obj::load_obj(&obj_path, policy, warnings).map_err(|e| match e {
+        LoadError::Io { path, what, source } => LoadError::Io {
+            path,
+            what: format!("{what} ({field}.file of {})", scene.display()),
+            source,
+        },
+        e => e,
+    })?;
+    let offset = builder.materials.len() as u32;
+    for m in data.materials {
+        builder.add_material(m);
+    }
+    for mut mesh in data.meshes {
+        for m in &mut mesh.materials {
+            *m = material.unwrap_or(*m + offset);
+        }
+        builder.add_mesh(mesh);
+    }
+    Ok(())
+}
+
+/// A ppm material from its YAML description.
+fn material(name: &str, d: &MaterialDesc, path: &Path) -> Result<Material, LoadError> {
+    let field = format!("materials.{name}");
+    let present = [
+        ("color", d.color.is_some()),
+        ("emission", d.emission.is_some()),
+        ("ior", d.ior.is_some()),
+        ("diffuse", d.diffuse.is_some()),
+        ("specular", d.specular.is_some()),
+        ("exponent", d.exponent.is_some()),
+    ];
+    let (type_name, allowed): (&str, &[&str]) = match d.kind {
+        MaterialType::Diffuse => ("diffuse", &["color", "emission"]),
+        MaterialType::Mirror => ("mirror", &["color", "emission"]),
+        MaterialType::Glass => ("glass", &["ior", "color", "emission"]),
+        MaterialType::Phong => ("phong", &["diffuse", "specular", "exponent", "emission"]),
+    };
+    check_fields(
+        path,
+        &field,
+        &format!("{type_name} material"),
+        &present,
+        allowed,
+    )?;
+    let need = |what: &str| {
+        LoadError::invalid(
+            path,
+            &field,
+            format!("a {type_name} material needs `{what}`"),
+        )
+    };
+    let color = d.color.as_ref().map(|c| c.0);
+    let bsdf = match d.kind {
+        MaterialType::Diffuse => Bsdf::diffuse(color.ok_or_else(|| need("color"))?),
+        MaterialType::Mirror => Bsdf::mirror(color.unwrap_or(Vec3::ONE)),
+        MaterialType::Glass => Bsdf::glass(
+            d.ior.as_ref().ok_or_else(|| need("ior"))?.0,
+            color.unwrap_or(Vec3::ONE),
+        ),
+        MaterialType::Phong => {
+            let kd = d.diffuse.as_ref().ok_or_else(|| need("diffuse"))?.0;
+            let ks = d.specular.as_ref().ok_or_else(|| need("specular"))?.0;
+            let n = d.exponent.as_ref().ok_or_else(|| need("exponent"))?.0;
+            let sum = kd + ks;
+            if let Some(ch) = (0..3).find(|&c| sum[c] > 1.0) {
+                return Err(LoadError::invalid(
+                    path,
+                    field,
+                    format!(
+                        "diffuse + specular is {} in the {} channel; it must be <= 1 or the surface creates energy",
+                        sum[ch],
+                        ["red", "green", "blue"][ch]
+                    ),
+                ));
+            }
+            Bsdf::phong(kd, ks, n)
+        }
+    };
+    let emission = d.emission.as_ref().map_or(Vec3::ZERO, |e| e.0);
+    Ok(Material::new(bsdf, emission).named(name))
+}
+
+fn object_type_name(kind: ObjectType) -> &'static str {
+    match kind {
+        ObjectType::Mesh => "mesh",
+        ObjectType::Sphere => "sphere",
+        ObjectType::Quad => "quad",
+    }
+}
+
+fn object_fields(o: &ObjectDesc) -> [(&'static str, bool); 8] {
+    [
+        ("material", o.material.is_some()),
+        ("file", o.file.is_some()),
+        ("center", o.center.is_some()),
+        ("radius", o.radius.is_some()),
+        ("inward", o.inward.is_some()),
+        ("corner", o.corner.is_some()),
+        ("edge_u", o.edge_u.is_some()),
+        ("edge_v", o.edge_v.is_some()),
+    ]
+}
+
+fn allowed_object_fields(kind: ObjectType) -> &'static [&'static str] {
+    match kind {
+        ObjectType::Mesh => &["file", "material"],
+        ObjectType::Sphere => &["center", "radius", "material", "inward"],
+        ObjectType::Quad => &["corner", "edge_u", "edge_v", "material"],
+    }
+}
+
+/// Fails on the first present field that `what` does not take.
+fn check_fields(
+    path: &Path,
+    field: &str,
+    what: &str,
+    present: &[(&str, bool)],
+    allowed: &[&str],
+) -> Result<(), LoadError> {
+    match present
+        .iter()
+        .find(|(name, p)| *p && !allowed.contains(name))
+    {
+        Some((name, _)) => Err(LoadError::invalid(
+            path,
+            field,
+            format!(
+                "`{name}` does not apply to a {what} (it takes `type`, {})",
+                allowed.join(", ")
+            ),
+        )),
+        None => Ok(()),
+    }
+}

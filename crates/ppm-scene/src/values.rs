@@ -1,0 +1,224 @@
+//! Checked numbers, RGB triples and counts for the YAML schema.
+//!
+//! The range checks run inside the serde visitors, while the YAML deserializer still knows
+//! where the value is: a bad value is reported with its field path, line and column
+//! (`materials.white.color: component 1 is -0.5, expected a reflectance in [0, 1]`).
+
+use glam::Vec3;
+use ppm_core::camera::MAX_RESOLUTION;
+use serde::de::{self, Deserialize, Deserializer, IgnoredAny, SeqAccess, Visitor};
+use std::fmt;
+use std::marker::PhantomData;
+
+/// A range a number must lie in.
+pub trait Rule {
+    /// What a valid value is, for messages ("a finite number > 0").
+    const WHAT: &'static str;
+    /// True if `x` is valid.
+    fn ok(x: f32) -> bool;
+}
+
+/// Any finite number (coordinates, directions).
+pub struct Finite;
+/// A finite number >= 0 (emitted radiance, intensity, Phong exponent).
+pub struct NonNegative;
+/// A finite number > 0 (radius, index of refraction).
+pub struct Positive;
+/// A reflectance in [0, 1] (albedo, mirror and glass tint).
+pub struct Reflectance;
+/// A vertical field of view in (0, 180) degrees.
+pub struct FieldOfView;
+/// The radius reduction parameter alpha of PPM, in (0, 1].
+pub struct Alpha;
+
+impl Rule for Finite {
+    const WHAT: &'static str = "a finite number";
+    fn ok(x: f32) -> bool {
+        x.is_finite()
+    }
+}
+impl Rule for NonNegative {
+    const WHAT: &'static str = "a finite number >= 0";
+    fn ok(x: f32) -> bool {
+        x.is_finite() && x >= 0.0
+    }
+}
+impl Rule for Positive {
+    const WHAT: &'static str = "a finite number > 0";
+    fn ok(x: f32) -> bool {
+        x.is_finite() && x > 0.0
+    }
+}
+impl Rule for Reflectance {
+    const WHAT: &'static str = "a reflectance in [0, 1]";
+    fn ok(x: f32) -> bool {
+        (0.0..=1.0).contains(&x)
+    }
+}
+impl Rule for FieldOfView {
+    const WHAT: &'static str = "an angle in (0, 180) degrees";
+    fn ok(x: f32) -> bool {
+        x > 0.0 && x < 180.0
+    }
+}
+impl Rule for Alpha {
+    const WHAT: &'static str = "a number in (0, 1]";
+    fn ok(x: f32) -> bool {
+        x > 0.0 && x <= 1.0
+    }
+}
+
+/// A number checked against rule `R`.
+pub struct Num<R>(pub f32, PhantomData<R>);
+
+/// Three numbers `[x, y, z]` (or `[r, g, b]`), each checked against rule `R`.
+pub struct Triple<R>(pub Vec3, PhantomData<R>);
+
+/// A point or direction.
+pub type Point = Triple<Finite>;
+
+/// A positive whole number (photons per iteration, path depth).
+pub struct Count(pub u32);
+
+/// An image size `[width, height]`, each side in 1..=MAX_RESOLUTION.
+pub struct Resolution(pub u32, pub u32);
+
+impl<R> fmt::Debug for Num<R> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        self.0.fmt(f)
+    }
+}
+impl<R> fmt::Debug for Triple<R> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        self.0.fmt(f)
+    }
+}
+
+impl<'de, R: Rule> Deserialize<'de> for Num<R> {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        d.deserialize_f64(NumVisitor::<R>(PhantomData))
+    }
+}
+
+struct NumVisitor<R>(PhantomData<R>);
+
+impl<R: Rule> NumVisitor<R> {
+    fn check<E: de::Error>(x: f64) -> Result<Num<R>, E> {
+        let y = x as f32;
+        if R::ok(y) {
+            Ok(Num(y, PhantomData))
+        } else {
+            Err(E::custom(format!(
+                "{x} is out of range, expected {}",
+                R::WHAT
+            )))
+        }
+    }
+}
+
+impl<R: Rule> Visitor<'_> for NumVisitor<R> {
+    type Value = Num<R>;
+    fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(R::WHAT)
+    }
+    fn visit_f64<E: de::Error>(self, x: f64) -> Result<Num<R>, E> {
+        Self::check(x)
+    }
+    fn visit_i64<E: de::Error>(self, x: i64) -> Result<Num<R>, E> {
+        Self::check(x as f64)
+    }
+    fn visit_u64<E: de::Error>(self, x: u64) -> Result<Num<R>, E> {
+        Self::check(x as f64)
+    }
+}
+
+impl<'de, R: Rule> Deserialize<'de> for Triple<R> {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        d.deserialize_seq(TripleVisitor::<R>(PhantomData))
+    }
+}
+
+struct TripleVisitor<R>(PhantomData<R>);
+
+impl<'de, R: Rule> Visitor<'de> for TripleVisitor<R> {
+    type Value = Triple<R>;
+    fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "a list of three numbers, each {}", R::WHAT)
+    }
+    fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Triple<R>, A::Error> {
+        let mut v = [0.0f32; 3];
+        for (i, vi) in v.iter_mut().enumerate() {
+            let x: f64 = seq
+                .next_element()?
+                .ok_or_else(|| de::Error::invalid_length(i, &self))?;
+            *vi = x as f32;
+            if !R::ok(*vi) {
+                return Err(de::Error::custom(format!(
+                    "component {i} is {x}, expected {}",
+                    R::WHAT
+                )));
+            }
+        }
+        if seq.next_element::<IgnoredAny>()?.is_some() {
+            return Err(de::Error::invalid_length(4, &self));
+        }
+        Ok(Triple(Vec3::from_array(v), PhantomData))
+    }
+}
+
+impl<'de> Deserialize<'de> for Count {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct V;
+        impl Visitor<'_> for V {
+            type Value = Count;
+            fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+                write!(f, "a whole number >= 1 (at most {})", u32::MAX)
+            }
+            fn visit_u64<E: de::Error>(self, x: u64) -> Result<Count, E> {
+                match u32::try_from(x) {
+                    Ok(n) if n > 0 => Ok(Count(n)),
+                    _ => Err(E::invalid_value(de::Unexpected::Unsigned(x), &self)),
+                }
+            }
+            fn visit_i64<E: de::Error>(self, x: i64) -> Result<Count, E> {
+                match u64::try_from(x) {
+                    Ok(n) => self.visit_u64(n),
+                    Err(_) => Err(E::invalid_value(de::Unexpected::Signed(x), &self)),
+                }
+            }
+        }
+        d.deserialize_u64(V)
+    }
+}
+
+impl<'de> Deserialize<'de> for Resolution {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct V;
+        impl<'de> Visitor<'de> for V {
+            type Value = Resolution;
+            fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+                write!(f, "[width, height] in pixels, each in 1..={MAX_RESOLUTION}")
+            }
+            fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Resolution, A::Error> {
+                let mut side = [0u32; 2];
+                for (i, s) in side.iter_mut().enumerate() {
+                    let x: i64 = seq
+                        .next_element()?
+                        .ok_or_else(|| de::Error::invalid_length(i, &self))?;
+                    if !(1..=MAX_RESOLUTION as i64).contains(&x) {
+                        let name = ["width", "height"][i];
+                        return Err(de::Error::custom(format!(
+                            "{name} {x} is out of range, expected 1..={MAX_RESOLUTION} pixels"
+                        )));
+                    }
+                    *s = x as u32;
+                }
+                if seq.next_element::<IgnoredAny>()?.is_some() {
+                    return Err(de::Error::invalid_length(3, &self));
+                }
+                Ok(Resolution(side[0], side[1]))
+            }
+        }
+        d.deserialize_seq(V)
+    }
+}

@@ -1,0 +1,166 @@
+//! The serde schema of scene format v1 (see `docs/scene-format.md`).
+//!
+//! Materials and objects are flat structs with a `type` tag and every field optional, rather
+//! than internally tagged enums: serde buffers tagged enums and loses the field path and line
+//! of errors inside them. Which fields a type takes is checked afterwards in `build.rs`.
+
+use crate::values::{
+    Alpha, Count, FieldOfView, NonNegative, Num, Point, Positive, Reflectance, Resolution, Triple,
+};
+use serde::de::{self, DeserializeSeed, Deserializer, MapAccess, Visitor};
+use serde::Deserialize;
+use std::fmt;
+
+/// A whole scene file.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SceneFile {
+    pub camera: CameraDesc,
+    pub resolution: Option<Resolution>,
+    pub materials: Option<Materials>,
+    pub objects: Option<Vec<ObjectDesc>>,
+    pub lights: Option<Vec<LightDesc>>,
+    pub render: Option<RenderDesc>,
+}
+
+/// `camera:` a pinhole camera.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CameraDesc {
+    pub position: Point,
+    pub look_at: Point,
+    pub up: Point,
+    /// Vertical field of view in degrees.
+    pub fov: Num<FieldOfView>,
+}
+
+/// `materials:` name -> material, in file order; a repeated name is an error.
+pub struct Materials(pub Vec<(String, MaterialDesc)>);
+
+/// The material types.
+#[derive(Deserialize, Clone, Copy, Debug, PartialEq, Eq)]
+#[serde(rename_all = "lowercase")]
+pub enum MaterialType {
+    Diffuse,
+    Mirror,
+    Glass,
+    Phong,
+}
+
+/// One material; which fields apply depends on `type`.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MaterialDesc {
+    #[serde(rename = "type")]
+    pub kind: MaterialType,
+    pub color: Option<Triple<Reflectance>>,
+    pub emission: Option<Triple<NonNegative>>,
+    pub ior: Option<Num<Positive>>,
+    pub diffuse: Option<Triple<Reflectance>>,
+    pub specular: Option<Triple<Reflectance>>,
+    pub exponent: Option<Num<NonNegative>>,
+}
+
+/// The object types.
+#[derive(Deserialize, Clone, Copy, Debug, PartialEq, Eq)]
+#[serde(rename_all = "lowercase")]
+pub enum ObjectType {
+    Mesh,
+    Sphere,
+    Quad,
+}
+
+/// One object; which fields apply depends on `type`.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ObjectDesc {
+    #[serde(rename = "type")]
+    pub kind: ObjectType,
+    pub material: Option<String>,
+    pub file: Option<String>,
+    pub center: Option<Point>,
+    pub radius: Option<Num<Positive>>,
+    pub inward: Option<bool>,
+    pub corner: Option<Point>,
+    pub edge_u: Option<Point>,
+    pub edge_v: Option<Point>,
+}
+
+/// The light types (lights without geometry).
+#[derive(Deserialize, Clone, Copy, Debug, PartialEq, Eq)]
+#[serde(rename_all = "lowercase")]
+pub enum LightType {
+    Point,
+}
+
+/// One light without geometry.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LightDesc {
+    #[serde(rename = "type")]
+    pub kind: LightType,
+    pub position: Point,
+    /// Radiant intensity in W/sr per channel.
+    pub intensity: Triple<NonNegative>,
+}
+
+/// `render:` defaults the command line may override.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RenderDesc {
+    pub max_depth: Option<Count>,
+    pub photons: Option<Count>,
+    pub radius: Option<Num<Positive>>,
+    pub alpha: Option<Num<Alpha>>,
+}
+
+/// A seed that rejects the definition of a material name seen before.
+struct Duplicate(String);
+
+impl<'de> DeserializeSeed<'de> for Duplicate {
+    type Value = ();
+    fn deserialize<D: Deserializer<'de>>(self, d: D) -> Result<(), D::Error> {
+        // The error must come from a visitor to carry the value's line.
+        d.deserialize_any(self)
+    }
+}
+
+impl<'de> Visitor<'de> for Duplicate {
+    type Value = ();
+    fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "no second definition of material `{}`", self.0)
+    }
+    fn visit_map<A: MapAccess<'de>>(self, _: A) -> Result<(), A::Error> {
+        Err(de::Error::custom(format!(
+            "material `{}` is defined twice",
+            self.0
+        )))
+    }
+}
+
+impl<'de> Deserialize<'de> for Materials {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct V;
+        impl<'de> Visitor<'de> for V {
+            type Value = Materials;
+            fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+                f.write_str("a map from material names to materials")
+            }
+            fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<Materials, A::Error> {
+                let mut out: Vec<(String, MaterialDesc)> = Vec::new();
+                while let Some(name) = map.next_key::<String>()? {
+                    if out.iter().any(|(n, _)| *n == name) {
+                        // Fail inside the value, so the error points at the second definition.
+                        return map
+                            .next_value_seed(Duplicate(name))
+                            .map(|_| Materials(Vec::new()));
+                    }
+                    let m = map.next_value()?;
+                    out.push((name, m));
+                }
+                Ok(Materials(out))
+            }
+        }
+        d.deserialize_map(V)
+    }
+}
