@@ -84,6 +84,12 @@ impl Camera {
         Ok(())
     }
 
+    /// The same camera moved to `position` (orientation and field of view kept).
+    pub fn with_position(mut self, position: Vec3) -> Self {
+        self.position = position;
+        self
+    }
+
     /// Unit view direction.
     pub fn forward(&self) -> Vec3 {
         self.forward

@@ -39,6 +39,9 @@ pub struct Scene {
     pub geometry: Geometry,
     pub lights: Vec<Light>,
     pub defaults: RenderDefaults,
+    /// Where the world origin went: the scene is stored relative to the camera (everything
+    /// translated by -camera position), see [`SceneBuilder::build`]. World = stored + origin.
+    pub origin: Vec3,
     /// Light selection proportional to power (mean over channels).
     light_distribution: Distribution1D,
     /// Light index of each emissive primitive (u32::MAX for the others), by global prim id.
@@ -90,7 +93,25 @@ impl SceneBuilder {
     }
 
     /// Builds the BVH and one area light per emissive primitive.
-    pub fn build(self) -> Result<Scene, SceneError> {
+    ///
+    /// The scene is stored camera-relative (as pbrt-v4 does): every position is translated by
+    /// minus the camera position. Translating the whole scene leaves the image unchanged, and
+    /// f32 coordinates are then small where precision matters, so a scene placed 10^5 units
+    /// from the origin renders like the same scene at the origin.
+    pub fn build(mut self) -> Result<Scene, SceneError> {
+        let origin = self.camera.position;
+        for mesh in &mut self.meshes {
+            for p in &mut mesh.positions {
+                *p -= origin;
+            }
+        }
+        for s in &mut self.spheres {
+            s.center -= origin;
+        }
+        for l in &mut self.point_lights {
+            l.position -= origin;
+        }
+        self.camera = self.camera.with_position(Vec3::ZERO);
         let n_mat = self.materials.len() as u32;
         for m in self.meshes.iter().flat_map(|m| m.materials.iter()) {
             if *m >= n_mat {
@@ -136,6 +157,7 @@ impl SceneBuilder {
             light_distribution: Distribution1D::new(&weights),
             lights,
             defaults: self.defaults,
+            origin,
             prim_light,
         })
     }
