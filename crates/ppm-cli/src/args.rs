@@ -1,0 +1,378 @@
+//! The command line. Flags are a contract with users' scripts: rename nothing.
+//!
+//! Rendering is the default: `ppm scene.yml -n 100` and `ppm render scene.yml -n 100` are the
+//! same. A scene file named like a subcommand (`compare`, `converge`, `render`) can still be
+//! rendered as `ppm ./compare`.
+
+use clap::{Args, Parser, Subcommand, ValueEnum};
+use ppm_core::camera::MAX_RESOLUTION;
+use ppm_core::integrator::{Algorithm, DirectMode, LightStrategy};
+use std::path::PathBuf;
+
+const AFTER_HELP: &str = "\
+Output: a PNG (8-bit sRGB) and a linear float EXR with the same stem are always both written.
+
+Exit status: 0 on success, 1 on an error, 2 on bad command-line usage, 130 when a render was
+interrupted by Ctrl-C (the image of all finished iterations has been written; a second Ctrl-C
+quits at once without writing).";
+
+/// Progressive photon mapping and path tracing renderer.
+#[derive(Parser, Debug)]
+#[command(
+    name = "ppm",
+    version,
+    args_conflicts_with_subcommands = true,
+    subcommand_negates_reqs = true,
+    after_help = AFTER_HELP
+)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Option<Command>,
+    #[command(flatten)]
+    pub render: RenderArgs,
+}
+
+#[derive(Subcommand, Debug)]
+pub enum Command {
+    /// Render a scene (the default when no subcommand is given).
+    Render(RenderArgs),
+    /// Compare two images: relMSE, RMSE and trimmed relMSE of A against the reference B.
+    Compare(CompareArgs),
+    /// Run algorithms for the same time budget and plot relMSE against time.
+    Converge(ConvergeArgs),
+}
+
+/// Iterations rendered when neither `-n` nor `--time-limit` is given.
+pub const DEFAULT_ITERATIONS: u64 = 32;
+
+#[derive(Args, Debug, Clone)]
+pub struct RenderArgs {
+    /// Scene file (YAML); looked up in scenes/ when not found as given.
+    #[arg(required = true)]
+    pub scene: Option<PathBuf>,
+    /// Iterations to render [default: 32, or unlimited with --time-limit].
+    #[arg(short = 'n', long, value_parser = clap::value_parser!(u64).range(1..))]
+    pub iterations: Option<u64>,
+    /// Output image: out.png, out.exr or out all write out.png + out.exr
+    /// [default: <scene stem>.png/.exr in the current folder].
+    #[arg(short, long, value_name = "PATH")]
+    pub output: Option<PathBuf>,
+    /// Integrator.
+    #[arg(short, long, value_enum, default_value_t = AlgorithmArg::Ppm)]
+    pub algorithm: AlgorithmArg,
+    #[command(flatten)]
+    pub settings: SettingsArgs,
+    /// Stop after the iteration that crosses this much render time (seconds).
+    #[arg(long, value_name = "SECONDS", value_parser = positive_seconds)]
+    pub time_limit: Option<f64>,
+    /// Also write the current image every this many seconds.
+    #[arg(long, value_name = "SECONDS", value_parser = positive_seconds)]
+    pub checkpoint: Option<f64>,
+    /// Reference image (EXR) to measure the error against; sets the default resolution.
+    #[arg(long, value_name = "REF.exr")]
+    pub reference: Option<PathBuf>,
+    /// CSV of iteration,seconds,relmse,rmse, written during the render (needs --reference).
+    #[arg(long, value_name = "CSV", requires = "reference")]
+    pub error_log: Option<PathBuf>,
+}
+
+/// Settings shared by `render` and `converge`; unset ones come from the scene file.
+#[derive(Args, Debug, Clone, Default)]
+pub struct SettingsArgs {
+    /// Image width (without --height the scene's aspect ratio is kept).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=MAX_RESOLUTION as i64))]
+    pub width: Option<u32>,
+    /// Image height (without --width the scene's aspect ratio is kept).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=MAX_RESOLUTION as i64))]
+    pub height: Option<u32>,
+    /// Seed of all random numbers (converge: the first of --seeds consecutive seeds).
+    #[arg(long, default_value_t = 0)]
+    pub seed: u64,
+    /// Worker threads [default: all cores].
+    #[arg(long, value_parser = clap::value_parser!(u64).range(1..=4096))]
+    pub threads: Option<u64>,
+    /// Photon mapping: light paths per iteration.
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
+    pub photons: Option<u32>,
+    /// Photon mapping: initial gather radius in scene units [default: scene file, or 0.5%
+    /// of the scene's diagonal].
+    #[arg(long, value_parser = positive_finite)]
+    pub radius: Option<f32>,
+    /// Photon mapping: radius reduction alpha in (0, 1].
+    #[arg(long, value_parser = unit_interval)]
+    pub alpha: Option<f32>,
+    /// Longest eye or light path, in bounces.
+    #[arg(long)]
+    pub max_depth: Option<u32>,
+    /// Photon mapping: direct light from photons or by light sampling.
+    #[arg(long, value_enum)]
+    pub direct: Option<DirectArg>,
+    /// Path tracing: how light is found (only mis is meant for production).
+    #[arg(long, value_enum)]
+    pub light_strategy: Option<LightStrategyArg>,
+}
+
+#[derive(Args, Debug, Clone)]
+pub struct CompareArgs {
+    /// The image to measure (EXR, or PNG decoded to linear).
+    pub a: PathBuf,
+    /// The reference image.
+    pub b: PathBuf,
+}
+
+#[derive(Args, Debug, Clone)]
+pub struct ConvergeArgs {
+    /// Scene file (YAML); looked up in scenes/ when not found as given.
+    pub scene: PathBuf,
+    /// Reference image (EXR); the renders use its resolution.
+    #[arg(long, value_name = "REF.exr")]
+    pub reference: PathBuf,
+    /// Render time per algorithm and seed, in seconds.
+    #[arg(long, value_name = "SECONDS", value_parser = positive_seconds)]
+    pub time_limit: f64,
+    /// Algorithms to run, comma-separated.
+    #[arg(short, long, value_enum, value_delimiter = ',', default_values_t = [AlgorithmArg::Pt, AlgorithmArg::Ppm])]
+    pub algorithm: Vec<AlgorithmArg>,
+    /// Seeds per algorithm (K > 1 draws the min/max band over seeds).
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=1000))]
+    pub seeds: u32,
+    /// Folder for <scene stem>_convergence.csv and .png.
+    #[arg(long, value_name = "DIR", default_value = ".")]
+    pub out: PathBuf,
+    #[command(flatten)]
+    pub settings: SettingsArgs,
+}
+
+#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum AlgorithmArg {
+    /// Path tracing with next-event estimation and MIS.
+    Pt,
+    /// Progressive photon mapping.
+    Ppm,
+}
+
+impl AlgorithmArg {
+    pub fn algorithm(self) -> Algorithm {
+        match self {
+            AlgorithmArg::Pt => Algorithm::Path,
+            AlgorithmArg::Ppm => Algorithm::Ppm,
+        }
+    }
+
+    /// The name used on the command line, in CSV files and in plots.
+    pub fn name(self) -> &'static str {
+        match self {
+            AlgorithmArg::Pt => "pt",
+            AlgorithmArg::Ppm => "ppm",
+        }
+    }
+}
+
+#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DirectArg {
+    /// Direct light by density estimation of first-bounce photons.
+    Photons,
+    /// Direct light by light sampling at the gather point.
+    Sampled,
+}
+
+impl From<DirectArg> for DirectMode {
+    fn from(d: DirectArg) -> Self {
+        match d {
+            DirectArg::Photons => DirectMode::Photons,
+            DirectArg::Sampled => DirectMode::Sampled,
+        }
+    }
+}
+
+#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LightStrategyArg {
+    /// Light and BSDF sampling combined by the power heuristic.
+    Mis,
+    /// Light sampling only.
+    Light,
+    /// BSDF sampling only.
+    Bsdf,
+}
+
+impl From<LightStrategyArg> for LightStrategy {
+    fn from(s: LightStrategyArg) -> Self {
+        match s {
+            LightStrategyArg::Mis => LightStrategy::Mis,
+            LightStrategyArg::Light => LightStrategy::LightOnly,
+            LightStrategyArg::Bsdf => LightStrategy::BsdfOnly,
+        }
+    }
+}
+
+fn parse_f64(s: &str) -> Result<f64, String> {
+    s.trim()
+        .parse::<f64>()
+        .map_err(|_| format!("'{s}' is not a number"))
+}
+
+/// A duration in seconds: finite and > 0.
+fn positive_seconds(s: &str) -> Result<f64, String> {
+    let v = parse_f64(s)?;
+    if v.is_finite() && v > 0.0 {
+        Ok(v)
+    } else {
+        Err(format!("{s} is not a positive number of seconds"))
+    }
+}
+
+/// A finite value > 0.
+fn positive_finite(s: &str) -> Result<f32, String> {
+    let v = parse_f64(s)? as f32;
+    if v.is_finite() && v > 0.0 {
+        Ok(v)
+    } else {
+        Err(format!("{s} must be a finite number > 0"))
+    }
+}
+
+/// A value in (0, 1].
+fn unit_interval(s: &str) -> Result<f32, String> {
+    let v = parse_f64(s)? as f32;
+    if v > 0.0 && v <= 1.0 {
+        Ok(v)
+    } else {
+        Err(format!("{s} must be in (0, 1]"))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use clap::CommandFactory;
+
+    fn parse(args: &[&str]) -> Result<Cli, clap::Error> {
+        Cli::try_parse_from(std::iter::once("ppm").chain(args.iter().copied()))
+    }
+
+    #[test]
+    fn definition_is_consistent() {
+        Cli::command().debug_assert();
+    }
+
+    #[test]
+    fn render_is_the_default() {
+        let cli = parse(&[
+            "scene.yml",
+            "-n",
+            "3",
+            "-o",
+            "out.png",
+            "--seed",
+            "7",
+            "-a",
+            "pt",
+        ])
+        .unwrap();
+        assert!(cli.command.is_none());
+        let r = cli.render;
+        assert_eq!(r.scene, Some(PathBuf::from("scene.yml")));
+        assert_eq!(r.iterations, Some(3));
+        assert_eq!(r.output, Some(PathBuf::from("out.png")));
+        assert_eq!(r.settings.seed, 7);
+        assert_eq!(r.algorithm, AlgorithmArg::Pt);
+    }
+
+    #[test]
+    fn explicit_render_subcommand() {
+        let cli = parse(&[
+            "render",
+            "scene.yml",
+            "--photons",
+            "1000",
+            "--direct",
+            "sampled",
+        ])
+        .unwrap();
+        let Some(Command::Render(r)) = cli.command else {
+            panic!("expected render")
+        };
+        assert_eq!(r.scene, Some(PathBuf::from("scene.yml")));
+        assert_eq!(r.settings.photons, Some(1000));
+        assert_eq!(r.settings.direct, Some(DirectArg::Sampled));
+        assert_eq!(r.algorithm, AlgorithmArg::Ppm);
+    }
+
+    #[test]
+    fn compare_subcommand() {
+        let cli = parse(&["compare", "a.exr", "b.exr"]).unwrap();
+        let Some(Command::Compare(c)) = cli.command else {
+            panic!("expected compare")
+        };
+        assert_eq!((c.a, c.b), (PathBuf::from("a.exr"), PathBuf::from("b.exr")));
+        assert!(parse(&["compare", "a.exr"]).is_err());
+    }
+
+    #[test]
+    fn converge_subcommand() {
+        let cli = parse(&[
+            "converge",
+            "s.yml",
+            "--reference",
+            "r.exr",
+            "--time-limit",
+            "2",
+            "-a",
+            "pt,ppm",
+            "--seeds",
+            "3",
+            "--out",
+            "plots",
+        ])
+        .unwrap();
+        let Some(Command::Converge(c)) = cli.command else {
+            panic!("expected converge")
+        };
+        assert_eq!(c.algorithm, [AlgorithmArg::Pt, AlgorithmArg::Ppm]);
+        assert_eq!((c.seeds, c.time_limit), (3, 2.0));
+        assert_eq!(c.out, PathBuf::from("plots"));
+        let c = match parse(&[
+            "converge",
+            "s.yml",
+            "--reference",
+            "r.exr",
+            "--time-limit",
+            "1",
+        ])
+        .unwrap()
+        .command
+        {
+            Some(Command::Converge(c)) => c,
+            _ => panic!(),
+        };
+        assert_eq!(c.algorithm, [AlgorithmArg::Pt, AlgorithmArg::Ppm]);
+        assert!(
+            parse(&["converge", "s.yml", "--time-limit", "1"]).is_err(),
+            "reference is required"
+        );
+    }
+
+    #[test]
+    fn bad_values_are_usage_errors() {
+        for bad in [
+            &["s.yml", "-n", "0"][..],
+            &["s.yml", "-n", "many"],
+            &["s.yml", "--width", "0"],
+            &["s.yml", "--width", "100000"],
+            &["s.yml", "--radius", "-1"],
+            &["s.yml", "--radius", "nan"],
+            &["s.yml", "--alpha", "1.5"],
+            &["s.yml", "--alpha", "0"],
+            &["s.yml", "--threads", "0"],
+            &["s.yml", "--time-limit", "-3"],
+            &["s.yml", "--time-limit", "inf"],
+            &["s.yml", "-a", "bdpt"],
+            &["s.yml", "--error-log", "e.csv"], // needs --reference
+            &["s.yml", "--frobnicate"],
+            &[], // no scene
+        ] {
+            let err = parse(bad).expect_err(&format!("{bad:?} should be rejected"));
+            assert_ne!(err.kind(), clap::error::ErrorKind::DisplayHelp);
+        }
+    }
+}

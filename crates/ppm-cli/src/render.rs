@@ -1,0 +1,236 @@
+//! The render loop (shared by `ppm render` and `ppm converge`) and the render command.
+
+use crate::args::{RenderArgs, DEFAULT_ITERATIONS};
+use crate::error_log::{ErrorSample, ErrorTracker};
+use crate::output::{self, OutputPaths};
+use crate::progress::{peak_rss_bytes, Progress, Summary};
+use crate::setup;
+use crate::signal::Interrupt;
+use anyhow::{Context, Result};
+use ppm_core::integrator::Renderer;
+use ppm_core::scene::Scene;
+use std::path::Path;
+use std::time::{Duration, Instant};
+
+/// When a render stops: after `iterations`, or after the iteration that crosses `time_limit`
+/// seconds of render time, whichever comes first.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct StopRule {
+    pub iterations: Option<u64>,
+    pub time_limit: Option<f64>,
+}
+
+impl StopRule {
+    /// True when a render with these totals is finished.
+    pub fn done(&self, iterations: u64, seconds: f64) -> bool {
+        self.iterations.is_some_and(|n| iterations >= n)
+            || self.time_limit.is_some_and(|t| seconds >= t)
+    }
+}
+
+/// Counts over all iterations so far.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct LoopTotals {
+    pub iterations: u64,
+    /// Render time: the sum of the iterations' times, without the observer's work.
+    pub seconds: f64,
+    pub rays: u64,
+    pub shadow_rays: u64,
+    pub light_paths: u64,
+    pub photons: u64,
+    /// True if the loop stopped because of an interrupt.
+    pub interrupted: bool,
+}
+
+/// Renders iterations until `stop` says so or `interrupt` is raised, calling `after` after each
+/// with the renderer, the totals and whether it was the last iteration. The time `after` takes
+/// (error measurement, checkpoints) is not render time.
+pub fn render_loop(
+    scene: &Scene,
+    renderer: &mut Renderer,
+    stop: &StopRule,
+    interrupt: &Interrupt,
+    mut after: impl FnMut(&Renderer, &LoopTotals, bool) -> Result<()>,
+) -> Result<LoopTotals> {
+    let mut totals = LoopTotals::default();
+    while !stop.done(totals.iterations, totals.seconds) && !interrupt.requested() {
+        let start = Instant::now();
+        let stats = renderer.iterate(scene);
+        totals.seconds += start.elapsed().as_secs_f64();
+        totals.iterations += 1;
+        totals.rays += stats.rays;
+        totals.shadow_rays += stats.shadow_rays;
+        totals.light_paths += stats.light_paths;
+        totals.photons += stats.photons;
+        let last = stop.done(totals.iterations, totals.seconds) || interrupt.requested();
+        after(renderer, &totals, last)?;
+    }
+    totals.interrupted = interrupt.requested();
+    Ok(totals)
+}
+
+/// Writes the current image every `every` (wall-clock) while rendering.
+struct Checkpoints {
+    every: Duration,
+    last: Instant,
+}
+
+impl Checkpoints {
+    fn maybe_write(&mut self, renderer: &Renderer, paths: &OutputPaths) -> Result<()> {
+        if self.last.elapsed() >= self.every {
+            output::write_outputs(paths, &renderer.image()).context("writing a checkpoint")?;
+            self.last = Instant::now();
+        }
+        Ok(())
+    }
+}
+
+/// How a render command ended.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Outcome {
+    Finished,
+    /// Stopped by Ctrl-C; the image of the finished iterations was written.
+    Interrupted,
+}
+
+/// `ppm [render] SCENE ...`: checks every input and output path, loads the scene, renders,
+/// writes the PNG and EXR and prints a summary.
+pub fn run(args: &RenderArgs, interrupt: &Interrupt) -> Result<Outcome> {
+    let scene_arg = args.scene.as_deref().context("no scene file given")?;
+    let scene_path = setup::locate_scene(scene_arg)?;
+    let paths = output::output_paths(args.output.as_deref(), &scene_path)?;
+    // Fail now, not after an hour of rendering.
+    output::check_writable(&paths.png)?;
+    output::check_writable(&paths.exr)?;
+    if let Some(log) = &args.error_log {
+        output::check_writable(log)?;
+    }
+    let reference = args
+        .reference
+        .as_deref()
+        .map(|p| output::read_image(p).context("reading --reference"))
+        .transpose()?;
+
+    let mut scene = setup::load_scene(&scene_path)?;
+    setup::apply_resolution(
+        &mut scene,
+        &args.settings,
+        reference.as_ref().map(|r| (r.width, r.height)),
+    )?;
+    let settings = setup::render_settings(&scene, args.algorithm, &args.settings);
+    let stop = StopRule {
+        iterations: args.iterations.or(if args.time_limit.is_some() {
+            None
+        } else {
+            Some(DEFAULT_ITERATIONS)
+        }),
+        time_limit: args.time_limit,
+    };
+    let mut tracker = reference.map(ErrorTracker::new);
+    let mut log = match &args.error_log {
+        Some(path) => {
+            let mut log = output::create_log(path)?;
+            output::log_line(&mut log, path, ErrorSample::CSV_HEADER)?;
+            Some((log, path.as_path()))
+        }
+        None => None,
+    };
+    let mut checkpoints = args.checkpoint.map(|s| Checkpoints {
+        every: Duration::from_secs_f64(s),
+        last: Instant::now(),
+    });
+
+    let (totals, image, rejected, state_bytes) =
+        setup::with_threads(args.settings.threads, || -> Result<_> {
+            let mut renderer = Renderer::new(&scene, &settings);
+            let progress = Progress::new(&stop, args.algorithm.name());
+            let totals = render_loop(
+                &scene,
+                &mut renderer,
+                &stop,
+                interrupt,
+                |renderer, totals, last| {
+                    progress.update(totals);
+                    if let Some(tracker) = &mut tracker {
+                        let sample = tracker
+                            .observe(totals.iterations, totals.seconds, last, || renderer.image())
+                            .context("comparing with --reference")?;
+                        if let (Some(sample), Some((log, path))) = (sample, &mut log) {
+                            output::log_line(log, path, &sample.csv_row())?;
+                        }
+                    }
+                    if let Some(checkpoints) = &mut checkpoints {
+                        checkpoints.maybe_write(renderer, &paths)?;
+                    }
+                    Ok(())
+                },
+            );
+            progress.finish();
+            let totals = totals?;
+            Ok((
+                totals,
+                renderer.image(),
+                renderer.rejected(),
+                renderer.memory_bytes(),
+            ))
+        })??;
+
+    output::write_outputs(&paths, &image)?;
+    eprintln!("wrote {} and {}", paths.png.display(), paths.exr.display());
+    let camera = &scene.camera;
+    let summary = Summary {
+        width: camera.width,
+        height: camera.height,
+        algorithm: args.algorithm.name(),
+        totals: &totals,
+        rejected,
+        render_state_bytes: state_bytes,
+        peak_rss_bytes: peak_rss_bytes(),
+    };
+    eprintln!("{}", summary.line());
+    if let Some(last) = tracker.as_ref().and_then(|t| t.samples.last()) {
+        eprintln!(
+            "error against {}: relMSE {:.4e}, RMSE {:.4e}",
+            display(args.reference.as_deref()),
+            last.rel_mse,
+            last.rmse
+        );
+    }
+    Ok(if totals.interrupted {
+        Outcome::Interrupted
+    } else {
+        Outcome::Finished
+    })
+}
+
+fn display(path: Option<&Path>) -> String {
+    path.map(|p| p.display().to_string()).unwrap_or_default()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn stop_rule_stops_at_the_first_limit_reached() {
+        let n = StopRule {
+            iterations: Some(3),
+            time_limit: None,
+        };
+        assert!(!n.done(2, 1e9) && n.done(3, 0.0));
+        let t = StopRule {
+            iterations: None,
+            time_limit: Some(1.5),
+        };
+        assert!(!t.done(1_000_000, 1.49) && t.done(1, 1.5));
+        let both = StopRule {
+            iterations: Some(10),
+            time_limit: Some(1.0),
+        };
+        assert!(both.done(10, 0.1) && both.done(2, 1.0) && !both.done(9, 0.9));
+        assert!(
+            !StopRule::default().done(u64::MAX, f64::MAX),
+            "no limit: only an interrupt stops"
+        );
+    }
+}

@@ -1,0 +1,264 @@
+//! From command-line arguments to a scene and render settings: finding and loading the scene
+//! file, the resolution, setting overrides and the thread pool.
+
+use crate::args::{AlgorithmArg, SettingsArgs};
+use anyhow::{bail, Context, Result};
+use ppm_core::integrator::RenderSettings;
+use ppm_core::scene::Scene;
+use std::path::{Path, PathBuf};
+
+/// The scene file a command-line argument names, or an error naming every path tried.
+pub fn locate_scene(arg: &Path) -> Result<PathBuf> {
+    let path = ppm_scene::resolve_scene_path(arg);
+    if path.is_file() {
+        return Ok(path);
+    }
+    let in_scenes = Path::new("scenes").join(arg);
+    if path.is_dir() {
+        bail!("scene {} is a folder, not a scene file", path.display());
+    }
+    if in_scenes == arg {
+        bail!("scene file {} not found", arg.display());
+    }
+    bail!(
+        "scene file {} not found (tried {} and {})",
+        arg.display(),
+        arg.display(),
+        in_scenes.display()
+    )
+}
+
+/// Loads a scene file, printing the loader's warnings to stderr.
+pub fn load_scene(path: &Path) -> Result<Scene> {
+    let loaded = ppm_scene::load_scene(path)
+        .with_context(|| format!("cannot load scene {}", path.display()))?;
+    for warning in &loaded.warnings {
+        eprintln!("warning: {warning}");
+    }
+    Ok(loaded.scene)
+}
+
+/// The image size of a render: `--width`/`--height` if given (one alone keeps the scene's
+/// aspect ratio), else the reference's size if there is one, else the scene's. With a
+/// reference the result must match it.
+pub fn resolve_resolution(
+    scene: (u32, u32),
+    width: Option<u32>,
+    height: Option<u32>,
+    reference: Option<(u32, u32)>,
+) -> Result<(u32, u32)> {
+    let (sw, sh) = (scene.0 as f64, scene.1 as f64);
+    let size = match (width, height, reference) {
+        (Some(w), Some(h), _) => (w, h),
+        (Some(w), None, _) => (w, ((w as f64 * sh / sw).round() as u32).max(1)),
+        (None, Some(h), _) => (((h as f64 * sw / sh).round() as u32).max(1), h),
+        (None, None, Some(r)) => r,
+        (None, None, None) => scene,
+    };
+    if let Some(r) = reference {
+        if r != size {
+            bail!(
+                "the reference image is {}x{} but the render would be {}x{}: render at the reference's size \
+                 (drop --width/--height)",
+                r.0,
+                r.1,
+                size.0,
+                size.1
+            );
+        }
+    }
+    Ok(size)
+}
+
+/// Sets the camera resolution (see [`resolve_resolution`]).
+pub fn apply_resolution(
+    scene: &mut Scene,
+    settings: &SettingsArgs,
+    reference: Option<(u32, u32)>,
+) -> Result<()> {
+    let camera = &mut scene.camera;
+    let (w, h) = resolve_resolution(
+        (camera.width, camera.height),
+        settings.width,
+        settings.height,
+        reference,
+    )?;
+    camera
+        .set_resolution(w, h)
+        .context("invalid --width/--height")?;
+    Ok(())
+}
+
+/// The scene's render defaults with the command line's overrides.
+pub fn render_settings(
+    scene: &Scene,
+    algorithm: AlgorithmArg,
+    args: &SettingsArgs,
+) -> RenderSettings {
+    let mut settings = RenderSettings::new(scene);
+    apply_overrides(&mut settings, algorithm, args);
+    settings
+}
+
+/// Overrides the settings the command line sets.
+pub fn apply_overrides(
+    settings: &mut RenderSettings,
+    algorithm: AlgorithmArg,
+    args: &SettingsArgs,
+) {
+    settings.algorithm = algorithm.algorithm();
+    settings.seed = args.seed;
+    if let Some(v) = args.max_depth {
+        settings.max_depth = v;
+    }
+    if let Some(v) = args.photons {
+        settings.photons = v;
+    }
+    if let Some(v) = args.radius {
+        settings.radius = v;
+    }
+    if let Some(v) = args.alpha {
+        settings.alpha = v;
+    }
+    if let Some(v) = args.direct {
+        settings.direct = v.into();
+    }
+    if let Some(v) = args.light_strategy {
+        settings.light_strategy = v.into();
+    }
+}
+
+/// Runs `f` on a pool of `threads` workers, or on rayon's global pool (all cores) if `None`.
+pub fn with_threads<T: Send>(threads: Option<u64>, f: impl FnOnce() -> T + Send) -> Result<T> {
+    match threads {
+        None => Ok(f()),
+        Some(n) => {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(n as usize)
+                .build()
+                .with_context(|| format!("cannot start {n} threads (--threads)"))?;
+            Ok(pool.install(f))
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::args::{DirectArg, LightStrategyArg};
+    use ppm_core::integrator::{Algorithm, DirectMode, LightStrategy};
+
+    #[test]
+    fn resolution_rules() {
+        let scene = (512, 412);
+        assert_eq!(
+            resolve_resolution(scene, None, None, None).unwrap(),
+            (512, 412)
+        );
+        assert_eq!(
+            resolve_resolution(scene, Some(64), Some(32), None).unwrap(),
+            (64, 32)
+        );
+        // One side alone keeps the aspect ratio: 256 * 412 / 512 = 206.
+        assert_eq!(
+            resolve_resolution(scene, Some(256), None, None).unwrap(),
+            (256, 206)
+        );
+        assert_eq!(
+            resolve_resolution(scene, None, Some(206), None).unwrap(),
+            (256, 206)
+        );
+        assert_eq!(
+            resolve_resolution(scene, Some(1), None, None).unwrap(),
+            (1, 1)
+        );
+        // A reference sets the default size and must match an explicit one.
+        assert_eq!(
+            resolve_resolution(scene, None, None, Some((64, 48))).unwrap(),
+            (64, 48)
+        );
+        assert_eq!(
+            resolve_resolution(scene, Some(64), Some(48), Some((64, 48))).unwrap(),
+            (64, 48)
+        );
+        let err = resolve_resolution(scene, Some(64), None, Some((64, 48)))
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("64x48") && err.contains("64x52"), "{err}");
+    }
+
+    #[test]
+    fn unknown_scene_names_the_paths_tried() {
+        let err = locate_scene(Path::new("no_such_scene.yml"))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.contains("no_such_scene.yml") && err.contains("scenes/no_such_scene.yml"),
+            "{err}"
+        );
+        let dir = tempfile::tempdir().unwrap();
+        let err = locate_scene(dir.path()).unwrap_err().to_string();
+        assert!(err.contains("folder"), "{err}");
+        let file = dir.path().join("s.yml");
+        std::fs::write(&file, "").unwrap();
+        assert_eq!(locate_scene(&file).unwrap(), file);
+    }
+
+    #[test]
+    fn overrides_replace_only_what_is_given() {
+        // Built by hand: a Scene needs the BVH, and these rules do not.
+        let defaults = RenderSettings {
+            algorithm: Algorithm::Ppm,
+            seed: 0,
+            max_depth: 32,
+            rr_depth: 3,
+            light_strategy: LightStrategy::Mis,
+            photons: 1000,
+            radius: 0.01,
+            alpha: 0.7,
+            direct: DirectMode::Photons,
+        };
+        let mut s = defaults.clone();
+        apply_overrides(&mut s, AlgorithmArg::Pt, &SettingsArgs::default());
+        assert_eq!(s.algorithm, Algorithm::Path);
+        assert_eq!(
+            (s.photons, s.radius, s.alpha, s.max_depth),
+            (
+                defaults.photons,
+                defaults.radius,
+                defaults.alpha,
+                defaults.max_depth
+            )
+        );
+        let args = SettingsArgs {
+            seed: 9,
+            photons: Some(123),
+            radius: Some(0.5),
+            alpha: Some(0.9),
+            max_depth: Some(4),
+            direct: Some(DirectArg::Sampled),
+            light_strategy: Some(LightStrategyArg::Bsdf),
+            ..SettingsArgs::default()
+        };
+        apply_overrides(&mut s, AlgorithmArg::Ppm, &args);
+        assert_eq!(s.algorithm, Algorithm::Ppm);
+        assert_eq!(
+            (s.seed, s.photons, s.radius, s.alpha, s.max_depth),
+            (9, 123, 0.5, 0.9, 4)
+        );
+        assert_eq!(s.direct, DirectMode::Sampled);
+        assert_eq!(s.light_strategy, LightStrategy::BsdfOnly);
+    }
+
+    #[test]
+    fn thread_pool_has_the_asked_size() {
+        assert_eq!(
+            with_threads(Some(3), rayon::current_num_threads).unwrap(),
+            3
+        );
+        assert_eq!(
+            with_threads(None, rayon::current_num_threads).unwrap(),
+            rayon::current_num_threads()
+        );
+    }
+}
