@@ -55,11 +55,12 @@ fn known_albedo(bsdf: &Bsdf, wo: Vec3) -> Option<Vec3> {
 // Generic checks for non-delta BSDFs.
 // ---------------------------------------------------------------------------------------------
 
-/// Chi-square goodness of fit of `sample` against `pdf` for every incident direction, each at
-/// the Sidak-corrected level so that all `chi2_tests` of the file together reject a correct
-/// sampler with probability `CHI2_ALPHA`.
+/// Chi-square goodness of fit of `sample` against `pdf`, and the mean of pdf(wi) against the
+/// integral of pdf^2 (see [`chi2_directions`]), for every incident direction. Each statistic
+/// is tested at the Sidak-corrected level so that all `chi2_tests` runs of the file together
+/// (two statistics each) reject a correct sampler with probability `CHI2_ALPHA`.
 fn check_chi2(name: &str, bsdf: &Bsdf, chi2_tests: usize) {
-    let level = sidak(CHI2_ALPHA, chi2_tests);
+    let level = sidak(CHI2_ALPHA, 2 * chi2_tests);
     let mut failures = Vec::new();
     for (k, wo) in incident_directions().into_iter().enumerate() {
         let mut rng = Rng::new(seed(name), k as u64, 0);
@@ -67,18 +68,33 @@ fn check_chi2(name: &str, bsdf: &Bsdf, chi2_tests: usize) {
             let (u_lobe, u) = (rng.uniform(), rng.uniform2());
             bsdf.sample(wo, u_lobe, u, RADIANCE).map(|s| s.wi)
         };
-        match chi2_directions(CHI2_SAMPLES, &mut rng, sample, |wi| bsdf.pdf(wo, wi) as f64) {
-            Err(e) => failures.push(format!("wo = {wo}: {e}")),
-            Ok(o) if o.p_value < level => failures.push(format!(
+        let o = match chi2_directions(CHI2_SAMPLES, &mut rng, sample, |wi| bsdf.pdf(wo, wi) as f64)
+        {
+            Ok(o) => o,
+            Err(e) => {
+                failures.push(format!("wo = {wo}: {e}"));
+                continue;
+            }
+        };
+        // Shown with --nocapture: the p-values should look uniform on [0, 1].
+        println!(
+            "{name}: wo = {wo}: chi2 = {:.1}, dof = {}, p = {:.4}; mean pdf(wi) p = {:.4}",
+            o.statistic, o.dof, o.p_value, o.collision_p_value
+        );
+        if o.p_value < level {
+            failures.push(format!(
                 "wo = {wo}: chi2 = {:.1}, dof = {}, p = {:.3e} < {level:.3e}, pdf mass {:.6}, \
                  worst cells (theta, phi, observed, expected) {:?}",
                 o.statistic, o.dof, o.p_value, o.pdf_mass, o.worst
-            )),
-            // Shown with --nocapture: the p-values should look uniform on [0, 1].
-            Ok(o) => println!(
-                "{name}: wo = {wo}: chi2 = {:.1}, dof = {}, p = {:.4}",
-                o.statistic, o.dof, o.p_value
-            ),
+            ));
+        }
+        if o.collision_p_value < level {
+            let (mean, se) = o.collision_observed;
+            failures.push(format!(
+                "wo = {wo}: mean pdf(wi) = {mean:.6} +- {se:.1e} but integral of pdf^2 = {:.6} \
+                 (p = {:.3e} < {level:.3e})",
+                o.collision_expected, o.collision_p_value
+            ));
         }
     }
     assert!(

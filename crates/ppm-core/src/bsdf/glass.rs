@@ -4,7 +4,7 @@ use super::{fresnel_dielectric, reflect, BsdfSample, Lobe, TransportMode};
 use glam::Vec3;
 
 /// A smooth dielectric interface between vacuum (index 1, the side `z > 0`) and a medium of
-/// index `ior` (the side `z < 0`), with the transmitted light tinted by `color`.
+/// index `ior` (the side `z < 0`), with the transmitted light tinted by `color` at each crossing.
 ///
 /// Both lobes are deltas, chosen with the Fresnel reflectance F as probability, so the
 /// sample weights carry no F:

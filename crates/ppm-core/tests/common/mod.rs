@@ -115,6 +115,12 @@ pub struct Chi2Outcome {
     pub pdf_mass: f64,
     /// The worst cells, (theta bin, phi bin or usize::MAX for "no sample", observed, expected).
     pub worst: Vec<(usize, usize, f64, f64)>,
+    /// Mean of pdf(wi) over the samples (0 for a lost one) and its standard error...
+    pub collision_observed: (f64, f64),
+    /// ... which should equal the integral of pdf^2 over the sphere.
+    pub collision_expected: f64,
+    /// Two-sided p-value of the observed mean (normal approximation).
+    pub collision_p_value: f64,
 }
 
 /// Resolution of the (theta, phi) histogram; theta = pi/2 is a bin edge, so the discontinuity
@@ -129,9 +135,14 @@ pub const MIN_EXPECTED: f64 = 5.0;
 /// `sample` is called `n` times (returning `None` for a lost sample); the sphere is cut into
 /// a (theta, phi) grid and each cell's expected count is `n` times the integral of `pdf` over
 /// it, `pdf(w) sin(theta) dtheta dphi`, by 6 x 6 Gauss-Legendre points (never on cell edges).
-/// "No sample" is one more cell, expected `n (1 - integral of pdf)` (at least `1e-6 n`). Cells expecting fewer than
-/// [`MIN_EXPECTED`] are pooled. Fails outright (Err) if the pdf integrates to more than one or
+/// "No sample" is one more cell, expected `n (1 - integral of pdf)` (at least `1e-6 n`).
+/// Cells expecting fewer than [`MIN_EXPECTED`] are pooled. Fails outright (Err) if the pdf integrates to more than one or
 /// samples land where the pdf is zero.
+///
+/// Cells wider than a narrow lobe cannot see its width, so a second statistic does: the mean of
+/// pdf(wi) over the samples estimates integral of q(w) pdf(w) dw for the true density q of
+/// `sample`, which equals the integral of pdf^2 when q = pdf. A lobe sampled too wide (narrow)
+/// lands at lower (higher) pdf values on average.
 pub fn chi2_directions(
     n: usize,
     rng: &mut Rng,
@@ -142,8 +153,11 @@ pub fn chi2_directions(
     let (dt, dp) = (PI / nt as f64, 2.0 * PI / np as f64);
 
     let mut observed = vec![0.0f64; nt * np + 1];
+    let mut collision = Stats::default();
     for _ in 0..n {
-        let cell = match sample(rng) {
+        let wi = sample(rng);
+        collision.push(wi.map_or(0.0, &pdf));
+        let cell = match wi {
             Some(w) => {
                 let theta = (w.z as f64).clamp(-1.0, 1.0).acos();
                 let phi = (w.y as f64).atan2(w.x as f64).rem_euclid(2.0 * PI);
@@ -158,10 +172,10 @@ pub fn chi2_directions(
 
     let rule = gauss_legendre(6);
     let mut expected = vec![0.0f64; nt * np + 1];
-    let mut mass = 0.0;
+    let (mut mass, mut collision_expected) = (0.0, 0.0);
     for i in 0..nt {
         for j in 0..np {
-            let mut integral = 0.0;
+            let (mut integral, mut integral_sq) = (0.0, 0.0);
             for &(xt, wt) in &rule {
                 let theta = (i as f64 + 0.5 * (xt + 1.0)) * dt;
                 let (sin_t, cos_t) = theta.sin_cos();
@@ -172,11 +186,14 @@ pub fn chi2_directions(
                         (sin_t * phi.sin()) as f32,
                         cos_t as f32,
                     );
-                    integral += wt * wp * pdf(w) * sin_t;
+                    let p = pdf(w);
+                    integral += wt * wp * p * sin_t;
+                    integral_sq += wt * wp * p * p * sin_t;
                 }
             }
             integral *= 0.25 * dt * dp;
             mass += integral;
+            collision_expected += integral_sq * 0.25 * dt * dp;
             expected[i * np + j] = integral * n as f64;
         }
     }
@@ -233,12 +250,17 @@ pub fn chi2_directions(
             (i, j, o, e)
         })
         .collect();
+    // z^2 of a standard normal is chi-square with one degree of freedom.
+    let z = (collision.mean() - collision_expected) / collision.std_error().max(1e-300);
     Ok(Chi2Outcome {
         statistic,
         dof,
         p_value: chi2_sf(statistic, dof),
         pdf_mass: mass,
         worst,
+        collision_observed: (collision.mean(), collision.std_error()),
+        collision_expected,
+        collision_p_value: chi2_sf(z * z, 1),
     })
 }
 
