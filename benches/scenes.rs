@@ -1,0 +1,101 @@
+//! Throughput on the four shipped scenes at their full resolution: closest-hit and shadow rays,
+//! photon tracing, hash-grid build and the photon gather (density estimates on the water
+//! scene's real photon map at the eye pass's gather points).
+//!
+//! `cargo bench -p ppm-benches` (add `-- gather` etc. to filter). Single-threaded: these are
+//! kernel throughputs; the parallel scaling is measured by the CLI (`--threads 1` vs `2`).
+
+use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
+use ppm_benches::{camera_rays, gather_points, photons, shadow_rays};
+use ppm_core::integrator::{density_estimate, trace_light_path, GatherContext, ShadingFrame};
+use ppm_core::photon::{HashGrid, Kernel, PhotonBuffer};
+use ppm_core::prelude::*;
+use ppm_tests::{load_small, SCENES};
+use std::hint::black_box;
+use std::time::Duration;
+
+fn load(name: &str) -> Scene {
+    let b = ppm_scene::load_scene_builder(&ppm_tests::scene_path(name)).unwrap().0;
+    let (w, h) = (b.camera.width, b.camera.height);
+    load_small(name, w, h).build().unwrap()
+}
+
+fn config(c: &mut Criterion, name: &str) -> criterion::BenchmarkGroup<'_, criterion::measurement::WallTime> {
+    let mut g = c.benchmark_group(name);
+    g.sample_size(10).warm_up_time(Duration::from_millis(500)).measurement_time(Duration::from_secs(2));
+    g
+}
+
+fn rays(c: &mut Criterion) {
+    let mut g = config(c, "rays");
+    for name in SCENES {
+        let scene = load(name);
+        let primary = camera_rays(&scene, 100_000);
+        g.throughput(Throughput::Elements(primary.len() as u64));
+        g.bench_with_input(BenchmarkId::new("closest_hit", name), &primary, |b, rays| {
+            b.iter(|| rays.iter().filter(|r| scene.intersect(r).is_some()).count())
+        });
+        let shadow = shadow_rays(&scene, 100_000);
+        g.throughput(Throughput::Elements(shadow.len() as u64));
+        g.bench_with_input(BenchmarkId::new("shadow", name), &shadow, |b, rays| {
+            b.iter(|| rays.iter().filter(|r| scene.occluded(r)).count())
+        });
+    }
+}
+
+fn photon_tracing(c: &mut Criterion) {
+    let mut g = config(c, "photon_tracing");
+    let paths = 20_000u32;
+    for name in SCENES {
+        let scene = load(name);
+        let settings = RenderSettings::new(&scene);
+        let stored = photons(&scene, &settings, paths).len();
+        g.throughput(Throughput::Elements(stored as u64));
+        let mut buffer = PhotonBuffer::with_capacity(stored * 2);
+        g.bench_function(BenchmarkId::new("photons", name), |b| {
+            b.iter(|| {
+                buffer.clear();
+                let mut writer = buffer.writer();
+                let mut counters = Default::default();
+                for path in 0..paths {
+                    trace_light_path(&scene, &settings, 0, path, &mut writer, &mut counters);
+                }
+            })
+        });
+    }
+}
+
+fn photon_map(c: &mut Criterion) {
+    let scene = load("cornell_box_water.yml");
+    let settings = RenderSettings::new(&scene);
+    let photons = photons(&scene, &settings, 200_000);
+    let points = gather_points(&scene, 50_000);
+    let mut g = config(c, "photon_map_water");
+    g.throughput(Throughput::Elements(photons.len() as u64));
+    let mut grid = HashGrid::new();
+    g.bench_function("grid_build", |b| b.iter(|| grid.build(black_box(&photons), settings.radius)));
+    for radius in [settings.radius, settings.radius * 0.5] {
+        grid.build(&photons, radius);
+        let ctx = GatherContext {
+            grid: &grid,
+            kernel: Kernel::new(radius),
+            radius,
+            inv_paths: 1.0 / 200_000.0,
+        };
+        g.throughput(Throughput::Elements(points.len() as u64));
+        g.bench_with_input(BenchmarkId::new("gather", format!("r={radius}")), &points, |b, points| {
+            b.iter(|| {
+                let mut sum = Vec3::ZERO;
+                for (hit, wo) in points {
+                    let sf = ShadingFrame::new(hit, *wo);
+                    let bsdf = &scene.material(hit).bsdf;
+                    sum += density_estimate(&ctx, hit, &sf, *wo, bsdf);
+                }
+                sum
+            })
+        });
+    }
+}
+
+criterion_group!(benches, rays, photon_tracing, photon_map);
+criterion_main!(benches);
