@@ -30,7 +30,10 @@ fn scene() -> (Vec<TriangleMesh>, Vec<Sphere>) {
         TriangleMesh::quad(Vec3::new(0.35, 0.999, 0.35), 0.3 * x, 0.3 * z, 3),
     ];
     // Two axis-aligned blocks, five quads each.
-    for (lo, size) in [(Vec3::new(0.15, 0.0, 0.2), Vec3::new(0.25, 0.6, 0.25)), (Vec3::new(0.6, 0.0, 0.55), Vec3::splat(0.25))] {
+    for (lo, size) in [
+        (Vec3::new(0.15, 0.0, 0.2), Vec3::new(0.25, 0.6, 0.25)),
+        (Vec3::new(0.6, 0.0, 0.55), Vec3::splat(0.25)),
+    ] {
         let (sx, sy, sz) = (x * size.x, y * size.y, z * size.z);
         meshes.push(TriangleMesh::quad(lo + sy, sz, sx, 0));
         meshes.push(TriangleMesh::quad(lo, sx, sy, 0));
@@ -59,7 +62,10 @@ fn scene() -> (Vec<TriangleMesh>, Vec<Sphere>) {
         }
     }
     meshes.push(TriangleMesh::new(positions, indices, 0));
-    let spheres = vec![Sphere::new(Vec3::new(0.3, 0.75, 0.3), 0.1, 4), Sphere::new(Vec3::new(0.75, 0.4, 0.3), 0.12, 5)];
+    let spheres = vec![
+        Sphere::new(Vec3::new(0.3, 0.75, 0.3), 0.1, 4),
+        Sphere::new(Vec3::new(0.75, 0.4, 0.3), 0.12, 5),
+    ];
     (meshes, spheres)
 }
 
@@ -73,11 +79,19 @@ fn rays(geometry: &Geometry) -> (Vec<Ray>, Vec<Ray>, Vec<Ray>) {
             Ray::new(eye, Vec3::new(0.6 * u.x, 0.6 * u.y, -1.0).normalize())
         })
         .collect();
-    let light = [Vec3::new(0.35, 0.999, 0.35), Vec3::new(0.65, 0.999, 0.35), Vec3::new(0.65, 0.999, 0.65)];
+    let light = [
+        Vec3::new(0.35, 0.999, 0.35),
+        Vec3::new(0.65, 0.999, 0.35),
+        Vec3::new(0.65, 0.999, 0.65),
+    ];
     let (mut bounce, mut shadow) = (Vec::with_capacity(N), Vec::with_capacity(N));
     for ray in &camera {
         let hit = geometry.intersect(ray).expect("closed box");
-        let n = if hit.ng.dot(ray.dir) < 0.0 { hit.ng } else { -hit.ng };
+        let n = if hit.ng.dot(ray.dir) < 0.0 {
+            hit.ng
+        } else {
+            -hit.ng
+        };
         let dir = Frame::new(n).to_world(cosine_hemisphere(rng.uniform2()));
         bounce.push(Ray::spawn(hit.p, hit.ng, dir));
         let b = uniform_triangle(rng.uniform2());
@@ -102,11 +116,18 @@ fn bench(c: &mut Criterion) {
                 Aabb::new(v[0].min(v[1]).min(v[2]), v[0].max(v[1]).max(v[2]))
             } else {
                 let s = geometry.sphere(p);
-                Aabb::new(Vec3A::from(s.center) - s.radius, Vec3A::from(s.center) + s.radius)
+                Aabb::new(
+                    Vec3A::from(s.center) - s.radius,
+                    Vec3A::from(s.center) + s.radius,
+                )
             }
         })
         .collect();
-    let cwbvh = obvhs::cwbvh::builder::build_cwbvh(&aabbs, BvhBuildParams::medium_build(), &mut Default::default());
+    let cwbvh = obvhs::cwbvh::builder::build_cwbvh(
+        &aabbs,
+        BvhBuildParams::medium_build(),
+        &mut Default::default(),
+    );
     let cwbvh_closest = |ray: &Ray| {
         let mut hit = RayHit::none();
         let oray = ObvhsRay::new(ray.origin.into(), ray.dir.into(), 0.0, ray.t_max);
@@ -127,13 +148,20 @@ fn bench(c: &mut Criterion) {
     group.sample_size(20);
     for (name, batch) in [("camera", &camera), ("bounce", &bounce)] {
         group.bench_function(format!("closest_{name}"), |b| {
-            b.iter(|| batch.iter().filter(|r| geometry.intersect(r).is_some()).count())
+            b.iter(|| {
+                batch
+                    .iter()
+                    .filter(|r| geometry.intersect(r).is_some())
+                    .count()
+            })
         });
         group.bench_function(format!("obvhs_cwbvh_closest_{name}"), |b| {
             b.iter(|| batch.iter().filter(|r| cwbvh_closest(r)).count())
         });
     }
-    group.bench_function("shadow", |b| b.iter(|| shadow.iter().filter(|r| geometry.occluded(r)).count()));
+    group.bench_function("shadow", |b| {
+        b.iter(|| shadow.iter().filter(|r| geometry.occluded(r)).count())
+    });
     group.finish();
     black_box(&geometry);
 }

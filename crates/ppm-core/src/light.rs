@@ -36,7 +36,13 @@ pub struct PointLight {
 #[derive(Clone, Copy, Debug)]
 pub enum Light {
     /// An emissive triangle (global primitive id `prim`).
-    Triangle { tri: Triangle, normal: Vec3, area: f32, le: Vec3, prim: u32 },
+    Triangle {
+        tri: Triangle,
+        normal: Vec3,
+        area: f32,
+        le: Vec3,
+        prim: u32,
+    },
     /// An emissive sphere; it emits inward when `sphere.inward` is set.
     Sphere { sphere: Sphere, le: Vec3, prim: u32 },
     /// A point light (a delta light: found only by light sampling).

@@ -10,12 +10,12 @@ fn closed_box(lo: Vec3, hi: Vec3, material: u32) -> Vec<TriangleMesh> {
     let d = hi - lo;
     let (x, y, z) = (Vec3::X * d.x, Vec3::Y * d.y, Vec3::Z * d.z);
     vec![
-        TriangleMesh::quad(lo, z, x, material),                             // floor, +y
-        TriangleMesh::quad(Vec3::new(lo.x, hi.y, lo.z), x, z, material),    // ceiling, -y
-        TriangleMesh::quad(lo, y, z, material),                             // left, +x
-        TriangleMesh::quad(Vec3::new(hi.x, lo.y, lo.z), z, y, material),    // right, -x
-        TriangleMesh::quad(lo, x, y, material),                             // back, +z
-        TriangleMesh::quad(Vec3::new(lo.x, lo.y, hi.z), y, x, material),    // front, -z
+        TriangleMesh::quad(lo, z, x, material), // floor, +y
+        TriangleMesh::quad(Vec3::new(lo.x, hi.y, lo.z), x, z, material), // ceiling, -y
+        TriangleMesh::quad(lo, y, z, material), // left, +x
+        TriangleMesh::quad(Vec3::new(hi.x, lo.y, lo.z), z, y, material), // right, -x
+        TriangleMesh::quad(lo, x, y, material), // back, +z
+        TriangleMesh::quad(Vec3::new(lo.x, lo.y, hi.z), y, x, material), // front, -z
     ]
 }
 
@@ -68,23 +68,36 @@ fn same_hit(a: &Option<Hit>, b: &Option<Hit>) -> bool {
 
 #[test]
 fn bvh_closest_hit_matches_brute_force() {
-    for (scale, offset) in [(1.0, Vec3::ZERO), (1.0e-3, Vec3::ZERO), (1.0, Vec3::new(1.0e5, -2.0e4, 3.0))] {
+    for (scale, offset) in [
+        (1.0, Vec3::ZERO),
+        (1.0e-3, Vec3::ZERO),
+        (1.0, Vec3::new(1.0e5, -2.0e4, 3.0)),
+    ] {
         let (meshes, spheres) = test_scene(1, scale, offset);
         let geometry = Geometry::new(&meshes, &spheres);
         assert_eq!(geometry.sphere_count(), 13);
         let mut rng = Rng::new(2, 0, 0);
         let (mut hits, mut spawned) = (0, 0);
         for i in 0..20_000 {
-            let ray = Ray::new(random_point(&mut rng, 3.9) * scale + offset, uniform_sphere(rng.uniform2()));
+            let ray = Ray::new(
+                random_point(&mut rng, 3.9) * scale + offset,
+                uniform_sphere(rng.uniform2()),
+            );
             let hit = geometry.intersect(&ray);
             let reference = geometry.intersect_brute_force(&ray);
-            assert!(same_hit(&hit, &reference), "ray {i} {ray:?}: bvh {hit:?} vs brute force {reference:?}");
+            assert!(
+                same_hit(&hit, &reference),
+                "ray {i} {ray:?}: bvh {hit:?} vs brute force {reference:?}"
+            );
             let Some(hit) = hit else { continue };
             hits += 1;
             // Rays leaving the surface, to either side.
             let ray = Ray::spawn(hit.p, hit.ng, uniform_sphere(rng.uniform2()));
             let a = geometry.intersect(&ray);
-            assert!(same_hit(&a, &geometry.intersect_brute_force(&ray)), "spawned ray {i} {ray:?}");
+            assert!(
+                same_hit(&a, &geometry.intersect_brute_force(&ray)),
+                "spawned ray {i} {ray:?}"
+            );
             spawned += a.is_some() as u32;
         }
         // Every ray starts inside the closed box.
@@ -150,7 +163,10 @@ fn quad_grid(rng: &mut Rng) -> (TriangleMesh, Vec<Vec3>) {
 /// A point exactly (to float precision) on an inner edge, diagonal or vertex of the grid.
 fn grid_target(rng: &mut Rng, p: &[Vec3]) -> Vec3 {
     let s = 0.01 + 0.98 * rng.uniform();
-    let (i, j) = ((rng.uniform() * 3.0) as usize, (rng.uniform() * 3.0) as usize);
+    let (i, j) = (
+        (rng.uniform() * 3.0) as usize,
+        (rng.uniform() * 3.0) as usize,
+    );
     let v = |i: usize, j: usize| p[4 * j + i];
     match (rng.uniform() * 4.0) as u32 {
         // Inner vertical and horizontal edges (shared by two quads).
@@ -196,8 +212,13 @@ fn shared_edges_diagonals_and_vertices_are_watertight() {
     for _ in 0..100 {
         let (mesh, p) = quad_grid(&mut rng);
         let normal = (p[1] - p[0]).cross(p[4] - p[0]).normalize();
-        let tris: Vec<Triangle> =
-            mesh.indices.iter().map(|i| Triangle { v: i.map(|k| p[k as usize]) }).collect();
+        let tris: Vec<Triangle> = mesh
+            .indices
+            .iter()
+            .map(|i| Triangle {
+                v: i.map(|k| p[k as usize]),
+            })
+            .collect();
         let scale = (p[15] - p[0]).length();
         let geometry = Geometry::new(&[mesh], &[]);
         for k in 0..12_000 {
@@ -205,14 +226,19 @@ fn shared_edges_diagonals_and_vertices_are_watertight() {
             let distance = scale * (0.5 + 4.0 * rng.uniform());
             let ray = ray_through(&mut rng, target, normal, distance);
             rays += 1;
-            let hit = tris.iter().any(|t| intersect_triangle(t, ray.origin, ray.dir, f32::INFINITY).is_some());
+            let hit = tris
+                .iter()
+                .any(|t| intersect_triangle(t, ray.origin, ray.dir, f32::INFINITY).is_some());
             // The BVH on every fourth ray (its triangle test is the same code).
             let bvh_hit = k % 4 != 0 || geometry.intersect(&ray).is_some();
             leaks += (!hit || !bvh_hit) as u64;
             control_leaks += !tris.iter().any(|t| moller_trumbore(t, ray.origin, ray.dir)) as u64;
         }
     }
-    assert_eq!(leaks, 0, "{leaks} of {rays} rays slipped through a shared edge");
+    assert_eq!(
+        leaks, 0,
+        "{leaks} of {rays} rays slipped through a shared edge"
+    );
     // The same rays do leak through a test that is not watertight.
     assert!(control_leaks > 0, "control: {control_leaks} of {rays}");
     println!("rays {rays}, Moller-Trumbore leaks {control_leaks}");
@@ -229,7 +255,9 @@ fn fan_center_vertex_and_spokes_are_watertight() {
         let n = 5 + (rng.uniform() * 10.0) as u32;
         let radius = 0.01 + 5.0 * rng.uniform();
         // Irregular angles, so the spokes are not symmetric.
-        let mut angles: Vec<f32> = (0..n).map(|i| (i as f32 + 0.5 * rng.uniform()) / n as f32).collect();
+        let mut angles: Vec<f32> = (0..n)
+            .map(|i| (i as f32 + 0.5 * rng.uniform()) / n as f32)
+            .collect();
         angles.sort_by(f32::total_cmp);
         let mut positions = vec![center];
         for a in &angles {
@@ -237,8 +265,12 @@ fn fan_center_vertex_and_spokes_are_watertight() {
             positions.push(center + radius * (frame.x * phi.cos() + frame.y * phi.sin()));
         }
         let indices: Vec<[u32; 3]> = (0..n).map(|i| [0, 1 + i, 1 + (i + 1) % n]).collect();
-        let tris: Vec<Triangle> =
-            indices.iter().map(|i| Triangle { v: i.map(|k| positions[k as usize]) }).collect();
+        let tris: Vec<Triangle> = indices
+            .iter()
+            .map(|i| Triangle {
+                v: i.map(|k| positions[k as usize]),
+            })
+            .collect();
         for k in 0..4_000 {
             let target = if k % 2 == 0 {
                 center
@@ -249,7 +281,9 @@ fn fan_center_vertex_and_spokes_are_watertight() {
             let distance = radius * (0.2 + 4.0 * rng.uniform());
             let ray = ray_through(&mut rng, target, frame.z, distance);
             rays += 1;
-            leaks += !tris.iter().any(|t| intersect_triangle(t, ray.origin, ray.dir, f32::INFINITY).is_some())
+            leaks += !tris
+                .iter()
+                .any(|t| intersect_triangle(t, ray.origin, ray.dir, f32::INFINITY).is_some())
                 as u64;
         }
     }
@@ -274,7 +308,11 @@ fn rays_leaving_corners_never_escape_the_box() {
                 // Left wall near the floor.
                 1 => (Vec3::new(0.0, delta(&mut rng), along), Vec3::X, Vec3::NEG_Y),
                 // Back wall near the corner with floor and left wall.
-                _ => (Vec3::new(delta(&mut rng), delta(&mut rng), 0.0), Vec3::Z, Vec3::NEG_X),
+                _ => (
+                    Vec3::new(delta(&mut rng), delta(&mut rng), 0.0),
+                    Vec3::Z,
+                    Vec3::NEG_X,
+                ),
             };
             // Mostly toward the neighbour, grazing along the surface, some at random.
             let tangent = (toward + ng.cross(toward) * (2.0 * rng.uniform() - 1.0)).normalize();
@@ -283,7 +321,10 @@ fn rays_leaving_corners_never_escape_the_box() {
             let ray = Ray::spawn(p, ng, dir);
             let hit = geometry.intersect(&ray);
             let reference = geometry.intersect_brute_force(&ray);
-            assert!(same_hit(&hit, &reference), "ray {i} {ray:?}: {hit:?} vs {reference:?}");
+            assert!(
+                same_hit(&hit, &reference),
+                "ray {i} {ray:?}: {hit:?} vs {reference:?}"
+            );
             let hit = hit.unwrap_or_else(|| panic!("ray {i} from {p} escaped: {ray:?}"));
             let tol = 1e-4 * size;
             assert!(
@@ -303,20 +344,31 @@ fn sphere_root(s: &Sphere, o: Vec3, d: Vec3) -> Option<f64> {
     if disc < 0.0 {
         return None;
     }
-    [(-b - disc.sqrt()) / a, (-b + disc.sqrt()) / a].into_iter().find(|&t| t > 0.0)
+    [(-b - disc.sqrt()) / a, (-b + disc.sqrt()) / a]
+        .into_iter()
+        .find(|&t| t > 0.0)
 }
 
 #[test]
 fn spawned_rays_never_rehit_their_own_surface() {
-    for (scale, offset) in [(1.0, Vec3::ZERO), (1.0, Vec3::new(1.0e5, 1.0e5, -1.0e5)), (1.0e-3, Vec3::ZERO)] {
+    for (scale, offset) in [
+        (1.0, Vec3::ZERO),
+        (1.0, Vec3::new(1.0e5, 1.0e5, -1.0e5)),
+        (1.0e-3, Vec3::ZERO),
+    ] {
         let (meshes, spheres) = test_scene(8, scale, offset);
         let geometry = Geometry::new(&meshes, &spheres);
         let n_tri = geometry.triangle_count() as u32;
         let mut rng = Rng::new(9, 0, 0);
         let mut tested = 0;
         for i in 0..20_000 {
-            let ray = Ray::new(random_point(&mut rng, 3.9) * scale + offset, uniform_sphere(rng.uniform2()));
-            let Some(hit) = geometry.intersect(&ray) else { continue };
+            let ray = Ray::new(
+                random_point(&mut rng, 3.9) * scale + offset,
+                uniform_sphere(rng.uniform2()),
+            );
+            let Some(hit) = geometry.intersect(&ray) else {
+                continue;
+            };
             let frame = Frame::new(hit.ng);
             for k in 0..8 {
                 // Both sides; grazing (down to 1e-6 rad off the surface) and random directions.
@@ -328,8 +380,13 @@ fn spawned_rays_never_rehit_their_own_surface() {
                 let spawned = Ray::spawn(hit.p, hit.ng, dir);
                 tested += 1;
                 let off = (spawned.origin - hit.p).dot(hit.ng);
-                assert!(off * side > 0.0, "origin on the wrong side: {hit:?} {spawned:?}");
-                let Some(again) = geometry.intersect(&spawned) else { continue };
+                assert!(
+                    off * side > 0.0,
+                    "origin on the wrong side: {hit:?} {spawned:?}"
+                );
+                let Some(again) = geometry.intersect(&spawned) else {
+                    continue;
+                };
                 if again.prim != hit.prim {
                     continue;
                 }
@@ -352,7 +409,14 @@ fn spawned_rays_never_rehit_their_own_surface() {
 
 #[test]
 fn degenerate_triangles_are_skipped_and_counted() {
-    let v = [Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::new(2.0, 0.0, 0.0), Vec3::new(0.0, 0.0, f32::NAN), Vec3::ZERO];
+    let v = [
+        Vec3::ZERO,
+        Vec3::X,
+        Vec3::Y,
+        Vec3::new(2.0, 0.0, 0.0),
+        Vec3::new(0.0, 0.0, f32::NAN),
+        Vec3::ZERO,
+    ];
     let a = TriangleMesh {
         positions: v.to_vec(),
         normals: Vec::new(),
@@ -367,7 +431,16 @@ fn degenerate_triangles_are_skipped_and_counted() {
         ],
         materials: vec![7, 1, 1, 1, 1, 1, 8],
     };
-    let b = TriangleMesh::new(vec![Vec3::Z, Vec3::Z + Vec3::X, Vec3::Z + Vec3::Y, Vec3::Z + Vec3::X], vec![[0, 1, 3], [0, 1, 2]], 9);
+    let b = TriangleMesh::new(
+        vec![
+            Vec3::Z,
+            Vec3::Z + Vec3::X,
+            Vec3::Z + Vec3::Y,
+            Vec3::Z + Vec3::X,
+        ],
+        vec![[0, 1, 3], [0, 1, 2]],
+        9,
+    );
     let geometry = Geometry::new(&[a, b], &[Sphere::new(Vec3::new(0.0, 0.0, -3.0), 0.5, 4)]);
     assert_eq!(geometry.skipped_triangles(), 6);
     assert_eq!(geometry.triangle_count(), 3);
@@ -380,56 +453,101 @@ fn degenerate_triangles_are_skipped_and_counted() {
     let down = |x: f32, y: f32| geometry.intersect(&Ray::new(Vec3::new(x, y, 5.0), Vec3::NEG_Z));
     assert_eq!(down(0.2, 0.2).map(|h| (h.prim, h.material)), Some((2, 9)));
     let below = Ray::new(Vec3::new(0.2, 0.2, -0.5), Vec3::NEG_Z);
-    assert_eq!(geometry.intersect(&below).map(|h| (h.prim, h.material)), Some((3, 4)));
+    assert_eq!(
+        geometry.intersect(&below).map(|h| (h.prim, h.material)),
+        Some((3, 4))
+    );
     let up = Ray::new(Vec3::new(0.2, 0.2, -1.0), Vec3::Z);
     assert!(matches!(geometry.intersect(&up), Some(h) if h.prim <= 1 && h.t == 1.0));
     let (lo, hi) = geometry.bounds();
-    assert_eq!((lo, hi), (Vec3::new(-0.5, -0.5, -3.5), Vec3::new(1.0, 1.0, 1.0)));
+    assert_eq!(
+        (lo, hi),
+        (Vec3::new(-0.5, -0.5, -3.5), Vec3::new(1.0, 1.0, 1.0))
+    );
 }
 
 #[test]
 fn hits_report_point_normals_and_barycentrics() {
     // Vertex normals pointing away from ng (flipped), one NaN and one zero (fall back to ng).
     let tilted = Vec3::new(1.0, 0.0, -1.0).normalize();
-    let positions = vec![Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::new(1.0, 1.0, 0.0), Vec3::Y];
-    let normals = vec![Vec3::NEG_Z, Vec3::NEG_Z, Vec3::new(f32::NAN, 0.0, 1.0), Vec3::ZERO, tilted];
+    let positions = vec![
+        Vec3::ZERO,
+        Vec3::X,
+        Vec3::Y,
+        Vec3::new(1.0, 1.0, 0.0),
+        Vec3::Y,
+    ];
+    let normals = vec![
+        Vec3::NEG_Z,
+        Vec3::NEG_Z,
+        Vec3::new(f32::NAN, 0.0, 1.0),
+        Vec3::ZERO,
+        tilted,
+    ];
     let indices = vec![[0, 1, 4], [1, 3, 2]];
-    let mesh = TriangleMesh { positions, normals, indices, materials: vec![0, 0] };
+    let mesh = TriangleMesh {
+        positions,
+        normals,
+        indices,
+        materials: vec![0, 0],
+    };
     let geometry = Geometry::new(&[mesh], &[]);
-    let hit = geometry.intersect(&Ray::new(Vec3::new(0.3, 0.1, 1.0), Vec3::NEG_Z)).unwrap();
+    let hit = geometry
+        .intersect(&Ray::new(Vec3::new(0.3, 0.1, 1.0), Vec3::NEG_Z))
+        .unwrap();
     let expected = -(Vec3::NEG_Z * 0.9 + tilted * 0.1).normalize();
     assert_eq!((hit.prim, hit.ng), (0, Vec3::Z));
     assert!((hit.ns - expected).length() < 1e-6, "{hit:?}");
     assert!((hit.p - Vec3::new(0.3, 0.1, 0.0)).length() < 1e-7 && (hit.t - 1.0).abs() < 1e-6);
     assert!((hit.uv - glam::Vec2::new(0.3, 0.1)).length() < 1e-6);
     // The NaN normal spoils the interpolation: ns falls back to ng.
-    let hit = geometry.intersect(&Ray::new(Vec3::new(0.6, 0.6, -1.0), Vec3::Z)).unwrap();
+    let hit = geometry
+        .intersect(&Ray::new(Vec3::new(0.6, 0.6, -1.0), Vec3::Z))
+        .unwrap();
     assert_eq!((hit.prim, hit.ng, hit.ns), (1, Vec3::Z, Vec3::Z));
     // A ray from behind sees the same ng: normals are not flipped toward the ray.
-    let hit = geometry.intersect(&Ray::new(Vec3::new(0.1, 0.1, -1.0), Vec3::Z)).unwrap();
+    let hit = geometry
+        .intersect(&Ray::new(Vec3::new(0.1, 0.1, -1.0), Vec3::Z))
+        .unwrap();
     assert_eq!(hit.ng, Vec3::Z);
 }
 
 #[test]
 fn inward_sphere_normal_points_to_the_center() {
     let center = Vec3::new(1.0, 2.0, 3.0);
-    let spheres = [Sphere::new(center, 2.0, 0).inward(), Sphere::new(center + Vec3::X * 10.0, -2.0, 0)];
+    let spheres = [
+        Sphere::new(center, 2.0, 0).inward(),
+        Sphere::new(center + Vec3::X * 10.0, -2.0, 0),
+    ];
     let geometry = Geometry::new(&[], &spheres);
     let mut rng = Rng::new(10, 0, 0);
     for i in 0..1000 {
         let s = &spheres[i % 2];
         // From inside and from outside.
-        let origin = if i % 4 < 2 { s.center + random_point(&mut rng, 1.0) } else { s.center + Vec3::splat(5.0) };
-        let dir = if i % 4 < 2 { uniform_sphere(rng.uniform2()) } else { (s.center - origin).normalize() };
+        let origin = if i % 4 < 2 {
+            s.center + random_point(&mut rng, 1.0)
+        } else {
+            s.center + Vec3::splat(5.0)
+        };
+        let dir = if i % 4 < 2 {
+            uniform_sphere(rng.uniform2())
+        } else {
+            (s.center - origin).normalize()
+        };
         let hit = geometry.intersect(&Ray::new(origin, dir)).unwrap();
         let to_center = (s.center - hit.p).normalize();
-        assert!(hit.ng.dot(to_center) > 0.9999 && (hit.ng.length() - 1.0).abs() < 1e-6, "{hit:?}");
+        assert!(
+            hit.ng.dot(to_center) > 0.9999 && (hit.ng.length() - 1.0).abs() < 1e-6,
+            "{hit:?}"
+        );
         assert_eq!(hit.ns, hit.ng);
         assert!(((hit.p - s.center).length() - 2.0).abs() < 1e-6);
     }
     // Outward spheres point away from the center.
     let geometry = Geometry::new(&[], &[Sphere::new(center, 2.0, 0)]);
-    let hit = geometry.intersect(&Ray::new(center + Vec3::Z * 5.0, Vec3::NEG_Z)).unwrap();
+    let hit = geometry
+        .intersect(&Ray::new(center + Vec3::Z * 5.0, Vec3::NEG_Z))
+        .unwrap();
     assert!((hit.ng - Vec3::Z).length() < 1e-6);
 }
 
@@ -457,7 +575,8 @@ fn large_triangles_through_the_world_origin_do_not_self_intersect() {
         let (u, v) = (frame.x * size, frame.y * size);
         let geometry = Geometry::new(&[TriangleMesh::quad(-0.5 * (u + v), u, v, 0)], &[]);
         for k in 0..200 {
-            let target = (frame.x * (2.0 * rng.uniform() - 1.0) + frame.y * (2.0 * rng.uniform() - 1.0))
+            let target = (frame.x * (2.0 * rng.uniform() - 1.0)
+                + frame.y * (2.0 * rng.uniform() - 1.0))
                 * size
                 * 1e-3;
             let ray = ray_through(&mut rng, target, frame.z, 1.0);
@@ -465,10 +584,14 @@ fn large_triangles_through_the_world_origin_do_not_self_intersect() {
             let side = if k % 2 == 0 { 1.0 } else { -1.0 };
             let elevation = [1e-6f32, 1e-3, 0.1, 1.0, 10.0][k % 5];
             let phi = std::f32::consts::TAU * rng.uniform();
-            let dir = Frame::new(hit.ng).to_world(Vec3::new(phi.cos(), phi.sin(), side * elevation).normalize());
+            let dir = Frame::new(hit.ng)
+                .to_world(Vec3::new(phi.cos(), phi.sin(), side * elevation).normalize());
             let spawned = Ray::spawn(hit.p, hit.ng, dir);
             tested += 1;
-            assert!(geometry.intersect(&spawned).is_none(), "{hit:?} -> {spawned:?}");
+            assert!(
+                geometry.intersect(&spawned).is_none(),
+                "{hit:?} -> {spawned:?}"
+            );
             assert!(!geometry.occluded(&spawned));
         }
     }

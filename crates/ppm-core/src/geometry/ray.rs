@@ -36,7 +36,11 @@ pub fn offset_origin(p: Vec3, ng: Vec3, dir: Vec3) -> Vec3 {
             m
         }
     };
-    Vec3::new(step(moved.x, offset.x), step(moved.y, offset.y), step(moved.z, offset.z))
+    Vec3::new(
+        step(moved.x, offset.x),
+        step(moved.y, offset.y),
+        step(moved.z, offset.z),
+    )
 }
 
 impl Ray {

@@ -152,7 +152,11 @@ impl ShearedRay {
         let max_y = y0.abs().max(y1.abs()).max(y2.abs());
         let max_e = e0.abs().max(e1.abs()).max(e2.abs());
         let delta_t = t_error_bound::<f32>(max_x, max_y, max_z, max_e, inv_det.abs(), gamma);
-        let t = if t > delta_t { t } else { self.near_t(v0, v1, v2)? };
+        let t = if t > delta_t {
+            t
+        } else {
+            self.near_t(v0, v1, v2)?
+        };
         Some((t, e1 * inv_det, e2 * inv_det))
     }
 
@@ -170,7 +174,11 @@ impl ShearedRay {
     fn near_t(&self, v0: Vec3, v1: Vec3, v2: Vec3) -> Option<f32> {
         let o = self.origin.as_dvec3();
         let d = self.dir.as_dvec3().to_array();
-        let (sx, sy, sz) = (d[self.kx] / d[self.kz], d[self.ky] / d[self.kz], 1.0 / d[self.kz]);
+        let (sx, sy, sz) = (
+            d[self.kx] / d[self.kz],
+            d[self.ky] / d[self.kz],
+            1.0 / d[self.kz],
+        );
         let transform = |v: Vec3| {
             let p = (v.as_dvec3() - o).to_array();
             let z = p[self.kz];
@@ -208,7 +216,14 @@ fn gamma64(n: i32) -> f64 {
 /// pbrt-v4's bound on the error of t = (e0 z0 + e1 z1 + e2 z2) / det, from the largest
 /// magnitudes of the transformed coordinates, the edge functions and 1 / |det|.
 #[inline(always)]
-fn t_error_bound<F>(max_x: F, max_y: F, max_z: F, max_e: F, inv_det: F, gamma: impl Fn(i32) -> F) -> F
+fn t_error_bound<F>(
+    max_x: F,
+    max_y: F,
+    max_z: F,
+    max_e: F,
+    inv_det: F,
+    gamma: impl Fn(i32) -> F,
+) -> F
 where
     F: Copy + std::ops::Add<Output = F> + std::ops::Mul<Output = F> + From<f32>,
 {
