@@ -14,7 +14,7 @@ use std::f32::consts::PI;
 /// not finite (`sample_direct` produces no such samples).
 #[inline]
 fn solid_angle_pdf(area: f32, dist2: f32, cos_l: f32) -> f32 {
-    if !(cos_l > 0.0) {
+    if cos_l.is_nan() || cos_l <= 0.0 {
         return 0.0;
     }
     let pdf = dist2 / (area * cos_l);
@@ -188,7 +188,7 @@ impl Light {
         }
         let d = q - p;
         let dist2 = d.length_squared();
-        if !(dist2 > 0.0) {
+        if dist2.is_nan() || dist2 <= 0.0 {
             return 0.0;
         }
         // The same expressions as in `sample_direct`, so both give the same value.

@@ -28,12 +28,10 @@ pub fn offset_origin(p: Vec3, ng: Vec3, dir: Vec3) -> Vec3 {
     let moved = p + offset;
     // Rounding p + offset may have given back up to half an ulp; step one more ulp away.
     let step = |m: f32, o: f32| {
-        if o > 0.0 {
-            m.next_up()
-        } else if o < 0.0 {
-            m.next_down()
-        } else {
+        if o == 0.0 {
             m
+        } else {
+            next_float(m, o > 0.0)
         }
     };
     Vec3::new(
@@ -41,6 +39,23 @@ pub fn offset_origin(p: Vec3, ng: Vec3, dir: Vec3) -> Vec3 {
         step(moved.y, offset.y),
         step(moved.z, offset.z),
     )
+}
+
+/// The neighbouring float of `x` toward +infinity (`up`) or -infinity (`f32::next_up` and
+/// `next_down` need Rust 1.86).
+#[inline]
+fn next_float(x: f32, up: bool) -> f32 {
+    if !x.is_finite() {
+        return x;
+    }
+    if x == 0.0 {
+        let tiny = f32::from_bits(1);
+        return if up { tiny } else { -tiny };
+    }
+    // Magnitudes are ordered like their bit patterns; moving away from zero adds one.
+    let away_from_zero = (x > 0.0) == up;
+    let bits = x.to_bits();
+    f32::from_bits(if away_from_zero { bits + 1 } else { bits - 1 })
 }
 
 impl Ray {
@@ -84,5 +99,36 @@ impl Ray {
     #[inline]
     pub fn at(&self, t: f32) -> Vec3 {
         self.origin + self.dir * t
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn next_float_steps_one_ulp_either_way() {
+        for x in [1.0f32, -1.0, 3.5e-3, -7.0e5, f32::MIN_POSITIVE, 0.0, -0.0] {
+            let (up, down) = (next_float(x, true), next_float(x, false));
+            assert!(up > x && down < x, "{x}: {down} {up}");
+            assert_eq!(next_float(up, false), if x == 0.0 { 0.0 } else { x });
+        }
+        assert_eq!(next_float(1.0, true), 1.0 + f32::EPSILON);
+        assert_eq!(next_float(f32::MAX, true), f32::INFINITY);
+    }
+
+    #[test]
+    fn offset_moves_to_the_side_of_dir() {
+        let p = Vec3::new(1.0e5, -3.0, 0.25);
+        let n = Vec3::new(0.0, 0.6, 0.8);
+        for (dir, side) in [(n, 1.0), (-n, -1.0), (Vec3::X, 1.0)] {
+            let o = offset_origin(p, n, dir);
+            assert!(
+                (o - p).dot(n) * side > 0.0 && (o - p).length() < 1e5 * 1e-5,
+                "{o}"
+            );
+        }
+        // At the origin the offset is the smallest step, but still one.
+        assert!(offset_origin(Vec3::ZERO, Vec3::Z, Vec3::Z).z > 0.0);
     }
 }

@@ -89,7 +89,8 @@ pub(crate) fn intersect_sphere(
     let l = f - (b / a) * dir;
     let r2 = r * r;
     let disc = r2 - l.length_squared();
-    if !(disc >= 0.0) || !(r > 0.0) {
+    // Also rejects NaN (a zero direction, a NaN radius) and non-positive radii.
+    if disc.is_nan() || disc < 0.0 || r <= 0.0 {
         return None;
     }
     let ff = f.length_squared();
