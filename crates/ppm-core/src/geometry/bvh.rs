@@ -106,8 +106,13 @@ impl TraversalRay {
     fn slab(&self, aabb: &Aabb, t_max: f32) -> f32 {
         let t0 = (aabb.min - self.origin) * self.inv_dir;
         let t1 = (aabb.max - self.origin) * self.inv_dir;
-        let t_near = t0.min(t1).max_element().max(0.0);
-        let t_far = t0.max(t1).min_element().min(t_max) * SLAB_SCALE;
+        let (near, far) = (t0.min(t1), t0.max(t1));
+        // No NaN can occur here (see `new`), so plain comparisons do: they compile to single
+        // min/max instructions, unlike the NaN-aware `f32::max`.
+        let max = |a: f32, b: f32| if a > b { a } else { b };
+        let min = |a: f32, b: f32| if a < b { a } else { b };
+        let t_near = max(max(near.x, near.y), max(near.z, 0.0));
+        let t_far = min(min(far.x, far.y), min(far.z, t_max)) * SLAB_SCALE;
         if t_near <= t_far {
             t_near
         } else {

@@ -1,6 +1,5 @@
 //! The watertight ray-triangle test of Woop, Benthin and Wald (2013), "Watertight Ray/Triangle
-//! Intersection", JCGT 2(1), with the conservative t bound of pbrt-v4 (sec. 6.8.4) so that a
-//! ray leaving a triangle never reports that triangle again at t ~ 0.
+//! Intersection", JCGT 2(1).
 //!
 //! The ray is turned into a coordinate frame in which it runs along +z from the origin: the axes
 //! are permuted so z is the direction's largest component, then x and y are sheared. Each
@@ -8,6 +7,11 @@
 //! identically for every triangle that shares it, and an edge function that rounds to exactly
 //! zero is recomputed in double precision (where the products of floats are exact), so a ray
 //! through a shared edge or vertex is never lost between two triangles.
+//!
+//! Hits nearer than the conservative error bound on t of pbrt-v4 (sec. 6.8.4), where single
+//! precision cannot tell t from 0, get their t recomputed in double precision: the surface a
+//! ray was spawned from is never reported again, and a wall a corner ray meets after 1e-5 of the
+//! scene's size is not lost either (pbrt-v4 rejects every hit below the bound).
 
 use glam::Vec3;
 
@@ -132,21 +136,19 @@ impl ShearedRay {
             return None;
         }
 
-        // Scaled distance: t = (e0 z0 + e1 z1 + e2 z2) sz / det, tested without the division.
+        // Scaled distance: t = (e0 z0 + e1 z1 + e2 z2) sz / det; beyond t_max is rejected
+        // without the division.
         let (z0, z1, z2) = (self.sz * z0, self.sz * z1, self.sz * z2);
         let t_scaled = e0 * z0 + e1 * z1 + e2 * z2;
-        if det < 0.0 && (t_scaled >= 0.0 || t_scaled < t_max * det) {
+        if (det < 0.0 && t_scaled < t_max * det) || (det > 0.0 && t_scaled > t_max * det) {
             return None;
         }
-        if det > 0.0 && (t_scaled <= 0.0 || t_scaled > t_max * det) {
-            return None;
-        }
-
         let inv_det = 1.0 / det;
         let t = t_scaled * inv_det;
 
-        // Conservative bound on the rounding error of t (pbrt-v4 sec. 6.8.4); below it the sign
-        // of t is not known in single precision.
+        // Conservative bound on the rounding error of t (pbrt-v4 sec. 6.8.4). Within it the
+        // sign of t is not known in single precision: a ray leaving this very triangle, or a
+        // wall met right next to a corner. Those are decided in double precision.
         let max_z = z0.abs().max(z1.abs()).max(z2.abs());
         let max_x = x0.abs().max(x1.abs()).max(x2.abs());
         let max_y = y0.abs().max(y1.abs()).max(y2.abs());
@@ -154,8 +156,10 @@ impl ShearedRay {
         let delta_t = t_error_bound::<f32>(max_x, max_y, max_z, max_e, inv_det.abs(), gamma);
         let t = if t > delta_t {
             t
-        } else {
+        } else if t >= -delta_t {
             self.near_t(v0, v1, v2)?
+        } else {
+            return None;
         };
         Some((t, e1 * inv_det, e2 * inv_det))
     }
