@@ -149,7 +149,7 @@ impl Light {
         let (q, n, _) = self.sample_area(u);
         let d = q - p;
         let dist2 = d.length_squared();
-        if !(dist2 > 0.0) || !dist2.is_finite() {
+        if !dist2.is_finite() || dist2 <= 0.0 {
             return None;
         }
         let dist = dist2.sqrt();
