@@ -109,12 +109,20 @@ impl HashGrid {
     /// cells of side `2 radius`, and the next power of two `>= photons.len()` buckets.
     ///
     /// Larger query radii still work, visiting more cells.
+    ///
+    /// # Panics
+    ///
+    /// If `radius` is not positive and finite, or there are `u32::MAX` photons or more.
     pub fn build(&mut self, photons: &[Photon], radius: f32) {
         self.build_with_buckets(photons, radius, photons.len());
     }
 
     /// [`HashGrid::build`] with about `buckets` buckets (rounded up to a power of two, at
     /// least 1); fewer buckets mean more cells share one. For tests and tuning.
+    ///
+    /// # Panics
+    ///
+    /// As [`HashGrid::build`], or with `2^31` buckets or more.
     pub fn build_with_buckets(&mut self, photons: &[Photon], radius: f32, buckets: usize) {
         assert!(
             radius > 0.0 && radius.is_finite(),
