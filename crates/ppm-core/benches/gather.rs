@@ -68,29 +68,61 @@ fn photon_map(count: usize) -> Vec<Photon> {
     photons
 }
 
-/// Uniform points on the five walls.
-fn gather_points(count: usize) -> Vec<Vec3> {
+/// A point on wall `wall` (0 floor, 1 ceiling, 2 back, 3 left, 4 right) at `(u, v)`.
+fn on_wall(wall: usize, u: f32, v: f32) -> Vec3 {
+    match wall {
+        0 => Vec3::new(u, 0.0, v),
+        1 => Vec3::new(u, 1.0, v),
+        2 => Vec3::new(u, v, 0.0),
+        3 => Vec3::new(0.0, u, v),
+        _ => Vec3::new(1.0, u, v),
+    }
+}
+
+/// Uniform points on the five walls, in random order (every query misses the cache).
+fn random_points(count: usize) -> Vec<Vec3> {
     let mut rng = Rng::new(12, 0, 0);
     (0..count)
-        .map(|_| {
-            let wall = (rng.uniform() * 5.0) as usize;
-            let (u, v) = (rng.uniform(), rng.uniform());
-            match wall {
-                0 => Vec3::new(u, 0.0, v),
-                1 => Vec3::new(u, 1.0, v),
-                2 => Vec3::new(u, v, 0.0),
-                3 => Vec3::new(0.0, u, v),
-                _ => Vec3::new(1.0, u, v),
-            }
-        })
+        .map(|_| on_wall((rng.uniform() * 5.0) as usize, rng.uniform(), rng.uniform()))
         .collect()
+}
+
+/// Jittered raster points wall after wall in scanline order, like the gather points of
+/// consecutive pixels: neighbouring queries share cells.
+fn coherent_points(count: usize) -> Vec<Vec3> {
+    let side = ((count / 5) as f32).sqrt().ceil() as usize;
+    let mut rng = Rng::new(13, 0, 0);
+    let mut points = Vec::with_capacity(5 * side * side);
+    for wall in 0..5 {
+        for j in 0..side {
+            for i in 0..side {
+                let uv = (glam::Vec2::new(i as f32, j as f32) + rng.uniform2()) / side as f32;
+                points.push(on_wall(wall, uv.x, uv.y));
+            }
+        }
+    }
+    points.truncate(count);
+    points
+}
+
+/// Irradiance estimates E = Σ Φ_p k(d²) at every point, on one thread.
+fn estimate_all(grid: &HashGrid, points: &[Vec3], kernel: Kernel) -> Vec3 {
+    let mut total = Vec3::ZERO;
+    for &x in points {
+        let mut irradiance = Vec3::ZERO;
+        grid.for_each_in_radius(black_box(x), RADIUS, |photon, d2| {
+            irradiance += photon.flux * kernel.weight(d2);
+        });
+        total += irradiance;
+    }
+    total
 }
 
 fn gather(c: &mut Criterion) {
     let photons = photon_map(PHOTONS);
-    let points = gather_points(QUERIES);
     let mut grid = HashGrid::new();
     grid.build(&photons, RADIUS);
+    let kernel = Kernel::new(RADIUS);
 
     let mut group = c.benchmark_group("gather");
     group
@@ -98,22 +130,25 @@ fn gather(c: &mut Criterion) {
         .warm_up_time(Duration::from_secs(1))
         .measurement_time(Duration::from_secs(3));
 
-    // One irradiance estimate E = Σ Φ_p k(d²) per gather point, on one thread.
-    let kernel = Kernel::new(RADIUS);
-    group.throughput(Throughput::Elements(QUERIES as u64));
-    group.bench_function("density_estimate", |b| {
-        b.iter(|| {
-            let mut total = Vec3::ZERO;
-            for &x in &points {
-                let mut irradiance = Vec3::ZERO;
-                grid.for_each_in_radius(black_box(x), RADIUS, |photon, d2| {
-                    irradiance += photon.flux * kernel.weight(d2);
-                });
-                total += irradiance;
-            }
-            total
-        })
-    });
+    for (name, points) in [
+        ("density_estimate_random", random_points(QUERIES)),
+        ("density_estimate_coherent", coherent_points(QUERIES)),
+    ] {
+        let found: usize = points
+            .iter()
+            .map(|&x| {
+                let mut n = 0;
+                grid.for_each_in_radius(x, RADIUS, |_, _| n += 1);
+                n
+            })
+            .sum();
+        eprintln!(
+            "{name}: {:.1} photons per estimate",
+            found as f64 / points.len() as f64
+        );
+        group.throughput(Throughput::Elements(points.len() as u64));
+        group.bench_function(name, |b| b.iter(|| estimate_all(&grid, &points, kernel)));
+    }
 
     // Rebuilding the grid over the same photons (allocations reused, as in a render).
     group.throughput(Throughput::Elements(PHOTONS as u64));

@@ -9,6 +9,22 @@ use crate::sampling::{cosine_hemisphere, uniform_sphere, uniform_triangle, Frame
 use glam::{Vec2, Vec3};
 use std::f32::consts::PI;
 
+/// The solid-angle pdf d^2 / (A cos_l) of a point chosen uniformly on an area-A light, seen
+/// from distance d at cosine cos_l to its normal; 0 when the point faces away or the pdf is
+/// not finite (`sample_direct` produces no such samples).
+#[inline]
+fn solid_angle_pdf(area: f32, dist2: f32, cos_l: f32) -> f32 {
+    if cos_l.is_nan() || cos_l <= 0.0 {
+        return 0.0;
+    }
+    let pdf = dist2 / (area * cos_l);
+    if pdf.is_finite() {
+        pdf
+    } else {
+        0.0
+    }
+}
+
 /// A point light without geometry: radiant intensity `intensity` (W/sr) in every direction.
 #[derive(Clone, Copy, Debug)]
 pub struct PointLight {
@@ -27,7 +43,7 @@ pub enum Light {
         le: Vec3,
         prim: u32,
     },
-    /// An emissive sphere; `normal_sign` is -1 for an inward-facing sphere.
+    /// An emissive sphere; it emits inward when `sphere.inward` is set.
     Sphere { sphere: Sphere, le: Vec3, prim: u32 },
     /// A point light (a delta light: found only by light sampling).
     Point(PointLight),
@@ -86,6 +102,16 @@ impl Light {
         }
     }
 
+    /// Surface area of an area light (0 for a point light).
+    #[inline]
+    fn area(&self) -> f32 {
+        match self {
+            Light::Triangle { area, .. } => *area,
+            Light::Sphere { sphere, .. } => sphere.area(),
+            Light::Point(_) => 0.0,
+        }
+    }
+
     /// True for lights that only light sampling can find.
     pub fn is_delta(&self) -> bool {
         matches!(self, Light::Point(_))
@@ -120,10 +146,10 @@ impl Light {
     /// `None` if the sampled point faces away (one-sided emission) or is degenerate.
     #[inline]
     pub fn sample_direct(&self, p: Vec3, u: Vec2) -> Option<DirectSample> {
-        let (q, n, pdf_area) = self.sample_area(u);
+        let (q, n, _) = self.sample_area(u);
         let d = q - p;
         let dist2 = d.length_squared();
-        if !(dist2 > 0.0) || !dist2.is_finite() {
+        if !dist2.is_finite() || dist2 <= 0.0 {
             return None;
         }
         let dist = dist2.sqrt();
@@ -139,12 +165,8 @@ impl Light {
                 is_delta: true,
             }),
             Light::Triangle { le, .. } | Light::Sphere { le, .. } => {
-                let cos_l = -wi.dot(n);
-                if cos_l <= 0.0 {
-                    return None;
-                }
-                let pdf = pdf_area * dist2 / cos_l;
-                pdf.is_finite().then_some(DirectSample {
+                let pdf = solid_angle_pdf(self.area(), dist2, -wi.dot(n));
+                (pdf > 0.0).then_some(DirectSample {
                     p: q,
                     n,
                     wi,
@@ -161,18 +183,17 @@ impl Light {
     /// `q` with emitting normal `n` (not counting the choice of the light); 0 for point lights.
     #[inline]
     pub fn pdf_direct(&self, p: Vec3, q: Vec3, n: Vec3) -> f32 {
-        let area = match self {
-            Light::Triangle { area, .. } => *area,
-            Light::Sphere { sphere, .. } => sphere.area(),
-            Light::Point(_) => return 0.0,
-        };
-        let d = q - p;
-        let dist2 = d.length_squared();
-        let cos_l = -d.dot(n) / dist2.sqrt();
-        if cos_l <= 0.0 {
+        if self.is_delta() {
             return 0.0;
         }
-        dist2 / (area * cos_l)
+        let d = q - p;
+        let dist2 = d.length_squared();
+        if dist2.is_nan() || dist2 <= 0.0 {
+            return 0.0;
+        }
+        // The same expressions as in `sample_direct`, so both give the same value.
+        let wi = d / dist2.sqrt();
+        solid_angle_pdf(self.area(), dist2, -wi.dot(n))
     }
 
     /// Radiance emitted from a point with geometric normal `n` toward direction `w` (unit).

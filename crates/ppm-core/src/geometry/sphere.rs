@@ -1,6 +1,6 @@
 //! Analytic spheres.
 
-use glam::{Vec2, Vec3};
+use glam::{DVec3, Vec2, Vec3};
 use std::f32::consts::PI;
 
 /// A sphere. Its geometric normal points outward, or inward when `inward` is set (a closed
@@ -47,12 +47,15 @@ impl Sphere {
     /// u = phi / (2 pi) around z, v = theta / pi from +z.
     #[inline]
     pub fn surface(&self, p: Vec3) -> (Vec3, Vec3, Vec2) {
-        let r = self.radius.abs();
-        let mut n = (p - self.center).normalize_or_zero();
-        if n == Vec3::ZERO {
-            n = Vec3::Z;
+        // In double precision and rounded once, so the point is within half an ulp per
+        // coordinate of the sphere even when center and radius nearly cancel.
+        let c = DVec3::from(self.center);
+        let mut n = (DVec3::from(p) - c).normalize_or_zero();
+        if n == DVec3::ZERO {
+            n = DVec3::Z;
         }
-        let p = self.center + r * n;
+        let p = (c + self.radius.abs() as f64 * n).as_vec3();
+        let n = n.as_vec3();
         let phi = n.y.atan2(n.x);
         let u = if phi < 0.0 {
             phi / (2.0 * PI) + 1.0
@@ -86,7 +89,8 @@ pub(crate) fn intersect_sphere(
     let l = f - (b / a) * dir;
     let r2 = r * r;
     let disc = r2 - l.length_squared();
-    if !(disc >= 0.0) || !(r > 0.0) {
+    // Also rejects NaN (a zero direction, a NaN radius) and non-positive radii.
+    if disc.is_nan() || disc < 0.0 || r <= 0.0 {
         return None;
     }
     let ff = f.length_squared();

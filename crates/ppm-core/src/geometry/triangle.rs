@@ -1,6 +1,5 @@
 //! The watertight ray-triangle test of Woop, Benthin and Wald (2013), "Watertight Ray/Triangle
-//! Intersection", JCGT 2(1), with the conservative t bound of pbrt-v4 (sec. 6.8.4) so that a
-//! ray leaving a triangle never reports that triangle again at t ~ 0.
+//! Intersection", JCGT 2(1).
 //!
 //! The ray is turned into a coordinate frame in which it runs along +z from the origin: the axes
 //! are permuted so z is the direction's largest component, then x and y are sheared. Each
@@ -8,6 +7,11 @@
 //! identically for every triangle that shares it, and an edge function that rounds to exactly
 //! zero is recomputed in double precision (where the products of floats are exact), so a ray
 //! through a shared edge or vertex is never lost between two triangles.
+//!
+//! Hits nearer than the conservative error bound on t of pbrt-v4 (sec. 6.8.4), where single
+//! precision cannot tell t from 0, get their t recomputed in double precision: the surface a
+//! ray was spawned from is never reported again, and a wall a corner ray meets after 1e-5 of the
+//! scene's size is not lost either (pbrt-v4 rejects every hit below the bound).
 
 use glam::Vec3;
 
@@ -43,6 +47,7 @@ pub(crate) const fn gamma(n: i32) -> f32 {
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct ShearedRay {
     origin: Vec3,
+    dir: Vec3,
     /// Permutation: `kz` is the axis of the largest |dir| component.
     kx: usize,
     ky: usize,
@@ -77,6 +82,7 @@ impl ShearedRay {
         }
         ShearedRay {
             origin,
+            dir,
             kx,
             ky,
             kz,
@@ -130,36 +136,106 @@ impl ShearedRay {
             return None;
         }
 
-        // Scaled distance: t = (e0 z0 + e1 z1 + e2 z2) sz / det, tested without the division.
+        // Scaled distance: t = (e0 z0 + e1 z1 + e2 z2) sz / det; beyond t_max is rejected
+        // without the division.
         let (z0, z1, z2) = (self.sz * z0, self.sz * z1, self.sz * z2);
         let t_scaled = e0 * z0 + e1 * z1 + e2 * z2;
-        if det < 0.0 && (t_scaled >= 0.0 || t_scaled < t_max * det) {
+        if (det < 0.0 && t_scaled < t_max * det) || (det > 0.0 && t_scaled > t_max * det) {
             return None;
         }
-        if det > 0.0 && (t_scaled <= 0.0 || t_scaled > t_max * det) {
-            return None;
-        }
-
         let inv_det = 1.0 / det;
         let t = t_scaled * inv_det;
 
-        // Conservative bound on the rounding error of t (pbrt-v4 sec. 6.8.4): reject hits that
-        // cannot be told from t = 0, such as the surface a ray was spawned from.
+        // Conservative bound on the rounding error of t (pbrt-v4 sec. 6.8.4). Within it the
+        // sign of t is not known in single precision: a ray leaving this very triangle, or a
+        // wall met right next to a corner. Those are decided in double precision.
         let max_z = z0.abs().max(z1.abs()).max(z2.abs());
         let max_x = x0.abs().max(x1.abs()).max(x2.abs());
         let max_y = y0.abs().max(y1.abs()).max(y2.abs());
-        let delta_z = gamma(3) * max_z;
-        let delta_x = gamma(5) * (max_x + max_z);
-        let delta_y = gamma(5) * (max_y + max_z);
-        let delta_e = 2.0 * (gamma(2) * max_x * max_y + delta_y * max_x + delta_x * max_y);
         let max_e = e0.abs().max(e1.abs()).max(e2.abs());
-        let delta_t =
-            3.0 * (gamma(3) * max_e * max_z + delta_e * max_z + delta_z * max_e) * inv_det.abs();
-        if t <= delta_t {
+        let delta_t = t_error_bound::<f32>(max_x, max_y, max_z, max_e, inv_det.abs(), gamma);
+        let t = if t > delta_t {
+            t
+        } else if t >= -delta_t {
+            self.near_t(v0, v1, v2)?
+        } else {
             return None;
-        }
+        };
         Some((t, e1 * inv_det, e2 * inv_det))
     }
+
+    /// The distance of a hit too near the origin for the single-precision bound (a ray leaving
+    /// this very triangle, or a wall met right next to a corner), decided in double precision:
+    /// `None` unless t is certainly positive. Inside/outside stays the single-precision verdict,
+    /// which keeps the test watertight; only t is recomputed.
+    ///
+    /// pbrt-v4 simply rejects such hits, but its bound is about 1e-5 times the size of the
+    /// triangle, so rays leaving a point within 1e-5 of a corner would pass through the
+    /// adjacent wall. In double precision the translated vertices are exact and the bound is
+    /// 2^29 times smaller.
+    #[cold]
+    #[inline(never)]
+    fn near_t(&self, v0: Vec3, v1: Vec3, v2: Vec3) -> Option<f32> {
+        let o = self.origin.as_dvec3();
+        let d = self.dir.as_dvec3().to_array();
+        let (sx, sy, sz) = (
+            d[self.kx] / d[self.kz],
+            d[self.ky] / d[self.kz],
+            1.0 / d[self.kz],
+        );
+        let transform = |v: Vec3| {
+            let p = (v.as_dvec3() - o).to_array();
+            let z = p[self.kz];
+            (p[self.kx] - sx * z, p[self.ky] - sy * z, sz * z)
+        };
+        let (x0, y0, z0) = transform(v0);
+        let (x1, y1, z1) = transform(v1);
+        let (x2, y2, z2) = transform(v2);
+        let e0 = x1 * y2 - y1 * x2;
+        let e1 = x2 * y0 - y2 * x0;
+        let e2 = x0 * y1 - y0 * x1;
+        let det = e0 + e1 + e2;
+        if det == 0.0 {
+            return None;
+        }
+        let inv_det = 1.0 / det;
+        let t = (e0 * z0 + e1 * z1 + e2 * z2) * inv_det;
+        let max_z = z0.abs().max(z1.abs()).max(z2.abs());
+        let max_x = x0.abs().max(x1.abs()).max(x2.abs());
+        let max_y = y0.abs().max(y1.abs()).max(y2.abs());
+        let max_e = e0.abs().max(e1.abs()).max(e2.abs());
+        let delta_t = t_error_bound::<f64>(max_x, max_y, max_z, max_e, inv_det.abs(), gamma64);
+        let t32 = t as f32;
+        (t > delta_t && t32 > 0.0).then_some(t32)
+    }
+}
+
+/// gamma(n) for double precision, u = 2^-53.
+#[inline(always)]
+fn gamma64(n: i32) -> f64 {
+    let u = f64::EPSILON * 0.5;
+    n as f64 * u / (1.0 - n as f64 * u)
+}
+
+/// pbrt-v4's bound on the error of t = (e0 z0 + e1 z1 + e2 z2) / det, from the largest
+/// magnitudes of the transformed coordinates, the edge functions and 1 / |det|.
+#[inline(always)]
+fn t_error_bound<F>(
+    max_x: F,
+    max_y: F,
+    max_z: F,
+    max_e: F,
+    inv_det: F,
+    gamma: impl Fn(i32) -> F,
+) -> F
+where
+    F: Copy + std::ops::Add<Output = F> + std::ops::Mul<Output = F> + From<f32>,
+{
+    let delta_z = gamma(3) * max_z;
+    let delta_x = gamma(5) * (max_x + max_z);
+    let delta_y = gamma(5) * (max_y + max_z);
+    let delta_e = F::from(2.0) * (gamma(2) * max_x * max_y + delta_y * max_x + delta_x * max_y);
+    F::from(3.0) * (gamma(3) * max_e * max_z + delta_e * max_z + delta_z * max_e) * inv_det
 }
 
 /// Watertight ray-triangle intersection (Woop, Benthin and Wald 2013). Returns (t, b1, b2)

@@ -86,11 +86,15 @@ impl PhotonBuffer {
     ///
     /// The contents are discarded rather than kept: after an overflow the stored subset
     /// depends on scheduling, so the pass must be redone anyway. Reallocates only if the
-    /// buffer is too small.
+    /// buffer is too small. The photon count varies between iterations, so grow with some
+    /// headroom (e.g. `pushed() * 5 / 4`) to avoid redoing the next iteration too.
     pub fn grow(&mut self, capacity: usize) {
         self.clear();
         if capacity > self.capacity() {
-            *self = PhotonBuffer::with_capacity(capacity);
+            self.slots = Box::new([]); // free the old storage before allocating the new
+            self.slots = (0..capacity)
+                .map(|_| UnsafeCell::new(Photon::ZERO))
+                .collect();
         }
     }
 
