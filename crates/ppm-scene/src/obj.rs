@@ -76,7 +76,6 @@ pub fn parse_obj(
         triangulate: true,
         ignore_points: true,
         ignore_lines: true,
-        ..Default::default()
     };
     let mut reader = std::io::Cursor::new(prepared.text.as_bytes());
     let (models, _) = tobj::load_obj_buf(&mut reader, &options, |p| {
