@@ -110,12 +110,11 @@ pub fn parse_mtl(
                 },
                 _ => return Err(err("`illum` needs one whole number".into())),
             },
-            k if k.starts_with("map_")
-                || matches!(k, "bump" | "disp" | "decal" | "refl" | "norm") =>
+            k if (k.starts_with("map_")
+                || matches!(k, "bump" | "disp" | "decal" | "refl" | "norm"))
+                && !ignored.iter().any(|s| s == keyword) =>
             {
-                if !ignored.iter().any(|s| s == keyword) {
-                    ignored.push(keyword.to_string());
-                }
+                ignored.push(keyword.to_string());
             }
             // Ka (ambient), Tr (its meaning differs between exporters), sharpness and the PBR
             // extension (Pr, Pm, ...) have no counterpart in ppm's BSDFs.

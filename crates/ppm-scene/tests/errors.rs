@@ -471,6 +471,14 @@ fn optional_parts_have_documented_defaults() {
         matches!(b.materials[1].bsdf, ppm_core::bsdf::Bsdf::Glass(g) if g.color == glam::Vec3::ONE)
     );
     assert!(b.spheres[0].inward && !b.spheres[1].inward);
+    // Empty sections are allowed.
+    let (b, warnings) = parse_scene(
+        &format!("{CAMERA}materials:\nobjects:\nlights:\n"),
+        Path::new("d.yml"),
+    )
+    .unwrap();
+    assert!(b.materials.is_empty() && b.meshes.is_empty());
+    assert!(warnings.iter().any(|w| w.contains("no light")));
     // render: values are taken over.
     let (b, _) = parse_scene(
         &format!("{VALID}render: {{ max_depth: 7, photons: 1234, radius: 0.05, alpha: 0.5 }}\n"),

@@ -1,0 +1,254 @@
+//! The checking pass in front of tobj: OBJ text in, errors with line numbers out, or a
+//! rewritten text tobj cannot choke on (see the module docs of `obj`).
+
+use super::safe_normalize;
+use crate::error::LoadError;
+use glam::Vec3;
+use std::fmt::Write;
+use std::path::Path;
+
+/// The OBJ text rewritten for tobj, and what it needs to know about materials.
+pub(super) struct Prepared {
+    pub text: String,
+    /// Each `mtllib` statement: its line and its argument.
+    pub mtllibs: Vec<(usize, String)>,
+    /// Each `usemtl` statement: its line and the material name.
+    pub usemtl: Vec<(usize, String)>,
+    /// Faces dropped for having no area.
+    pub degenerate: usize,
+}
+
+/// Checks and rewrites OBJ text line by line (see the module docs). The output has only
+/// `mtllib` (first, as statement numbers), `v`, `vn`, `f` (absolute indices), `o`, `g` and
+/// `usemtl` statements.
+pub(super) fn prepare(
+    text: &str,
+    path: &Path,
+    warnings: &mut Vec<String>,
+) -> Result<Prepared, LoadError> {
+    let mut body = String::with_capacity(text.len());
+    let mut out = Prepared {
+        text: String::new(),
+        mtllibs: Vec::new(),
+        usemtl: Vec::new(),
+        degenerate: 0,
+    };
+    let mut positions: Vec<Vec3> = Vec::new();
+    // Output index of each `vn` of the file: flat normals we add shift the numbering.
+    let mut normal_index: Vec<usize> = Vec::new();
+    let mut emitted_normals = 0usize;
+    // In a file with vertex normals, faces without them get their flat normal: tobj can
+    // only give a mesh normals on all vertices or on none.
+    let file_has_normals = text.lines().any(|l| l.trim_start().starts_with("vn"));
+    let (mut short_faces, mut skipped_elements) = (0usize, 0usize);
+    let mut unknown: Vec<String> = Vec::new();
+
+    for (line_no, line) in logical_lines(text) {
+        let err = |message: String| LoadError::parse(path, line_no, message);
+        let line = line.split('#').next().unwrap_or("");
+        let mut words = line.split_whitespace();
+        let Some(keyword) = words.next() else {
+            continue;
+        };
+        let args: Vec<&str> = words.collect();
+        match keyword {
+            "v" => {
+                let p = numbers(&args, path, line_no, "v")?;
+                let p = match p.len() {
+                    // x y z, or x y z r g b (vertex colours, unused)
+                    3 | 6 => Vec3::new(p[0], p[1], p[2]),
+                    // x y z w: homogeneous
+                    4 if p[3] != 0.0 => Vec3::new(p[0], p[1], p[2]) / p[3],
+                    4 => return Err(err("`v`: w is 0".into())),
+                    n => return Err(err(format!("`v` needs x y z [w], found {n} numbers"))),
+                };
+                let _ = writeln!(body, "v {} {} {}", p.x, p.y, p.z);
+                positions.push(p);
+            }
+            "vn" => {
+                let n = numbers(&args, path, line_no, "vn")?;
+                if n.len() != 3 {
+                    return Err(err(format!("`vn` needs x y z, found {} numbers", n.len())));
+                }
+                let _ = writeln!(body, "vn {} {} {}", n[0], n[1], n[2]);
+                emitted_normals += 1;
+                normal_index.push(emitted_normals);
+            }
+            "f" | "fo" => {
+                let mut vertices = Vec::with_capacity(args.len());
+                for token in &args {
+                    let (v, n) =
+                        face_vertex(token, positions.len(), normal_index.len(), path, line_no)?;
+                    vertices.push((v, n.map(|n| normal_index[n - 1])));
+                }
+                if vertices.len() < 3 {
+                    short_faces += 1;
+                    continue;
+                }
+                let mut flat = None;
+                if file_has_normals && vertices.iter().any(|(_, n)| n.is_none()) {
+                    let newell = newell_normal(vertices.iter().map(|&(v, _)| positions[v - 1]));
+                    let Some(n) = safe_normalize(newell) else {
+                        out.degenerate += 1;
+                        continue;
+                    };
+                    let _ = writeln!(body, "vn {} {} {}", n.x, n.y, n.z);
+                    emitted_normals += 1;
+                    flat = Some(emitted_normals);
+                }
+                body.push('f');
+                for (v, n) in vertices {
+                    match flat.or(n) {
+                        Some(n) => write!(body, " {v}//{n}"),
+                        None => write!(body, " {v}"),
+                    }
+                    .ok();
+                }
+                body.push('\n');
+            }
+            "o" | "g" => {
+                let _ = writeln!(body, "{keyword} {}", args.join(" "));
+            }
+            "usemtl" => {
+                let name = args.join(" ");
+                if name.is_empty() {
+                    warnings.push(format!(
+                        "{}:{line_no}: `usemtl` without a name ignored",
+                        path.display()
+                    ));
+                    continue;
+                }
+                let _ = writeln!(body, "usemtl {name}");
+                out.usemtl.push((line_no, name));
+            }
+            "mtllib" => {
+                if args.is_empty() {
+                    return Err(err("`mtllib` needs a file name".into()));
+                }
+                // Listed first so that every `usemtl` sees every library.
+                let _ = writeln!(out.text, "mtllib {}", out.mtllibs.len());
+                out.mtllibs.push((line_no, args.join(" ")));
+            }
+            // Texture coordinates and smoothing groups: ppm has no textures and shades with
+            // the given vertex normals (or flat).
+            "vt" | "s" => {}
+            "l" | "p" => skipped_elements += 1,
+            other => {
+                if !unknown.iter().any(|u| u == other) {
+                    unknown.push(other.to_string());
+                }
+            }
+        }
+    }
+    let file = path.display();
+    if short_faces > 0 {
+        warnings.push(format!(
+            "{file}: skipped {short_faces} faces with fewer than 3 vertices"
+        ));
+    }
+    if skipped_elements > 0 {
+        warnings.push(format!(
+            "{file}: ignored {skipped_elements} line and point elements (not surfaces)"
+        ));
+    }
+    if !unknown.is_empty() {
+        unknown.truncate(8);
+        warnings.push(format!(
+            "{file}: ignored unsupported statements: {}",
+            unknown.join(", ")
+        ));
+    }
+    out.text.push_str(&body);
+    Ok(out)
+}
+
+/// Lines with their 1-based numbers, a trailing `\` joining a line with the next.
+fn logical_lines(text: &str) -> impl Iterator<Item = (usize, String)> + '_ {
+    let mut lines = text.lines().enumerate().peekable();
+    std::iter::from_fn(move || {
+        let (i, first) = lines.next()?;
+        let mut line = first.to_string();
+        while line.ends_with('\\') {
+            line.pop();
+            match lines.next() {
+                Some((_, next)) => {
+                    line.push(' ');
+                    line.push_str(next);
+                }
+                None => break,
+            }
+        }
+        Some((i + 1, line))
+    })
+}
+
+fn numbers(
+    args: &[&str],
+    path: &Path,
+    line_no: usize,
+    keyword: &str,
+) -> Result<Vec<f32>, LoadError> {
+    args.iter()
+        .map(|a| {
+            a.parse::<f32>().map_err(|_| {
+                LoadError::parse(path, line_no, format!("`{keyword}`: `{a}` is not a number"))
+            })
+        })
+        .collect()
+}
+
+/// One `v`, `v/vt`, `v//vn` or `v/vt/vn` of a face, as absolute 1-based position and normal
+/// indices. Negative indices count back from the last element defined so far (-1 = last).
+fn face_vertex(
+    token: &str,
+    n_positions: usize,
+    n_normals: usize,
+    path: &Path,
+    line_no: usize,
+) -> Result<(usize, Option<usize>), LoadError> {
+    let err = |message: String| LoadError::parse(path, line_no, message);
+    let mut parts = token.split('/');
+    let v = parts.next().unwrap_or("");
+    let vt = parts.next().unwrap_or("");
+    let vn = parts.next().unwrap_or("");
+    if parts.next().is_some() {
+        return Err(err(format!(
+            "face vertex `{token}` has more than three parts (v/vt/vn)"
+        )));
+    }
+    if !vt.is_empty() && vt.parse::<i64>().is_err() {
+        return Err(err(format!(
+            "face vertex `{token}`: `{vt}` is not a texture coordinate index"
+        )));
+    }
+    let resolve = |s: &str, count: usize, what: &str, plural: &str| -> Result<usize, LoadError> {
+        let count = count as i64;
+        let i: i64 = s.parse().map_err(|_| {
+            err(format!(
+                "face vertex `{token}`: `{s}` is not a {what} index"
+            ))
+        })?;
+        let absolute = if i < 0 { count + 1 + i } else { i };
+        if i == 0 || absolute < 1 || absolute > count {
+            return Err(err(format!(
+                "face vertex `{token}`: {what} index {i} is out of range ({count} {plural} defined before this line; indices start at 1, negative ones count back from the last)"
+            )));
+        }
+        Ok(absolute as usize)
+    };
+    let position = resolve(v, n_positions, "vertex", "vertices")?;
+    let normal = if vn.is_empty() {
+        None
+    } else {
+        Some(resolve(vn, n_normals, "normal", "normals")?)
+    };
+    Ok((position, normal))
+}
+
+/// The normal of a polygon, |n| = 2 area, robust for non-planar ones (Newell's method).
+fn newell_normal(points: impl Iterator<Item = Vec3> + Clone) -> Vec3 {
+    let next = points.clone().cycle().skip(1);
+    points
+        .zip(next)
+        .fold(Vec3::ZERO, |n, (a, b)| n + (a - b).cross(a + b) * 0.5)
+}
