@@ -51,7 +51,7 @@ pub struct RenderArgs {
     #[arg(required = true)]
     pub scene: Option<PathBuf>,
     /// Iterations to render [default: 32, or unlimited with --time-limit].
-    #[arg(short = 'n', long, value_parser = clap::value_parser!(u64).range(1..))]
+    #[arg(short = 'n', long, value_parser = clap::value_parser!(u64).range(1..), allow_negative_numbers = true)]
     pub iterations: Option<u64>,
     /// Output image: out.png, out.exr or out all write out.png + out.exr
     /// [default: <scene stem>.png/.exr in the current folder].
@@ -63,10 +63,10 @@ pub struct RenderArgs {
     #[command(flatten)]
     pub settings: SettingsArgs,
     /// Stop after the iteration that crosses this much render time (seconds).
-    #[arg(long, value_name = "SECONDS", value_parser = positive_seconds)]
+    #[arg(long, value_name = "SECONDS", value_parser = positive_seconds, allow_negative_numbers = true)]
     pub time_limit: Option<f64>,
     /// Also write the current image every this many seconds.
-    #[arg(long, value_name = "SECONDS", value_parser = positive_seconds)]
+    #[arg(long, value_name = "SECONDS", value_parser = positive_seconds, allow_negative_numbers = true)]
     pub checkpoint: Option<f64>,
     /// Reference image (EXR) to measure the error against; sets the default resolution.
     #[arg(long, value_name = "REF.exr")]
@@ -80,26 +80,26 @@ pub struct RenderArgs {
 #[derive(Args, Debug, Clone, Default)]
 pub struct SettingsArgs {
     /// Image width (without --height the scene's aspect ratio is kept).
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=MAX_RESOLUTION as i64))]
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=MAX_RESOLUTION as i64), allow_negative_numbers = true)]
     pub width: Option<u32>,
     /// Image height (without --width the scene's aspect ratio is kept).
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=MAX_RESOLUTION as i64))]
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=MAX_RESOLUTION as i64), allow_negative_numbers = true)]
     pub height: Option<u32>,
     /// Seed of all random numbers (converge: the first of --seeds consecutive seeds).
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
     /// Worker threads [default: all cores].
-    #[arg(long, value_parser = clap::value_parser!(u64).range(1..=4096))]
+    #[arg(long, value_parser = clap::value_parser!(u64).range(1..=4096), allow_negative_numbers = true)]
     pub threads: Option<u64>,
     /// Photon mapping: light paths per iteration.
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..), allow_negative_numbers = true)]
     pub photons: Option<u32>,
     /// Photon mapping: initial gather radius in scene units [default: scene file, or 0.5%
     /// of the scene's diagonal].
-    #[arg(long, value_parser = positive_finite)]
+    #[arg(long, value_parser = positive_finite, allow_negative_numbers = true)]
     pub radius: Option<f32>,
     /// Photon mapping: radius reduction alpha in (0, 1].
-    #[arg(long, value_parser = unit_interval)]
+    #[arg(long, value_parser = unit_interval, allow_negative_numbers = true)]
     pub alpha: Option<f32>,
     /// Longest eye or light path, in bounces.
     #[arg(long)]
@@ -124,17 +124,19 @@ pub struct CompareArgs {
 pub struct ConvergeArgs {
     /// Scene file (YAML); looked up in scenes/ when not found as given.
     pub scene: PathBuf,
-    /// Reference image (EXR); the renders use its resolution.
+    /// Reference image (EXR); the renders use its resolution. Render it with a seed outside
+    /// the ones used here (--seed .. --seed + --seeds - 1): a shared seed correlates its
+    /// noise with the runs' and understates their error.
     #[arg(long, value_name = "REF.exr")]
     pub reference: PathBuf,
     /// Render time per algorithm and seed, in seconds.
-    #[arg(long, value_name = "SECONDS", value_parser = positive_seconds)]
+    #[arg(long, value_name = "SECONDS", value_parser = positive_seconds, allow_negative_numbers = true)]
     pub time_limit: f64,
     /// Algorithms to run, comma-separated.
     #[arg(short, long, value_enum, value_delimiter = ',', default_values_t = [AlgorithmArg::Pt, AlgorithmArg::Ppm])]
     pub algorithm: Vec<AlgorithmArg>,
     /// Seeds per algorithm (K > 1 draws the min/max band over seeds).
-    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=1000))]
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=1000), allow_negative_numbers = true)]
     pub seeds: u32,
     /// Folder for <scene stem>_convergence.csv and .png.
     #[arg(long, value_name = "DIR", default_value = ".")]

@@ -202,7 +202,12 @@ pub fn write_exr(path: &Path, image: &Image) -> Result<()> {
     });
     let exr_image =
         ExrImage::from_channels((image.width as usize, image.height as usize), channels);
-    write_atomic(path, |w| Ok(exr_image.write().to_buffered(w)?))
+    write_atomic(path, |w| {
+        exr_image
+            .write()
+            .to_buffered(w)
+            .map_err(|e| anyhow::anyhow!("{e}"))
+    })
 }
 
 /// Writes both files of a render.
@@ -236,7 +241,9 @@ fn read_exr(path: &Path) -> Result<Image> {
             let i = pos.y() * image.width as usize + pos.x();
             image.pixels[i] = Vec3::new(r, g, b);
         },
-    )?;
+    )
+    // exr's errors repeat their io::Error as their source: keep the message only.
+    .map_err(|e| anyhow::anyhow!("{e}"))?;
     Ok(exr_image.layer_data.channel_data.pixels)
 }
 
