@@ -15,14 +15,20 @@ use std::hint::black_box;
 use std::time::Duration;
 
 fn load(name: &str) -> Scene {
-    let b = ppm_scene::load_scene_builder(&ppm_tests::scene_path(name)).unwrap().0;
+    let b = ppm_scene::load_scene_builder(&ppm_tests::scene_path(name))
+        .unwrap()
+        .0;
     let (w, h) = (b.camera.width, b.camera.height);
     load_small(name, w, h).build().unwrap()
 }
 
-fn config(c: &mut Criterion, name: &str) -> criterion::BenchmarkGroup<'_, criterion::measurement::WallTime> {
+type Group<'a> = criterion::BenchmarkGroup<'a, criterion::measurement::WallTime>;
+
+fn config<'a>(c: &'a mut Criterion, name: &str) -> Group<'a> {
     let mut g = c.benchmark_group(name);
-    g.sample_size(10).warm_up_time(Duration::from_millis(500)).measurement_time(Duration::from_secs(2));
+    g.sample_size(10)
+        .warm_up_time(Duration::from_millis(500))
+        .measurement_time(Duration::from_secs(2));
     g
 }
 
@@ -32,9 +38,11 @@ fn rays(c: &mut Criterion) {
         let scene = load(name);
         let primary = camera_rays(&scene, 100_000);
         g.throughput(Throughput::Elements(primary.len() as u64));
-        g.bench_with_input(BenchmarkId::new("closest_hit", name), &primary, |b, rays| {
-            b.iter(|| rays.iter().filter(|r| scene.intersect(r).is_some()).count())
-        });
+        g.bench_with_input(
+            BenchmarkId::new("closest_hit", name),
+            &primary,
+            |b, rays| b.iter(|| rays.iter().filter(|r| scene.intersect(r).is_some()).count()),
+        );
         let shadow = shadow_rays(&scene, 100_000);
         g.throughput(Throughput::Elements(shadow.len() as u64));
         g.bench_with_input(BenchmarkId::new("shadow", name), &shadow, |b, rays| {
@@ -73,7 +81,9 @@ fn photon_map(c: &mut Criterion) {
     let mut g = config(c, "photon_map_water");
     g.throughput(Throughput::Elements(photons.len() as u64));
     let mut grid = HashGrid::new();
-    g.bench_function("grid_build", |b| b.iter(|| grid.build(black_box(&photons), settings.radius)));
+    g.bench_function("grid_build", |b| {
+        b.iter(|| grid.build(black_box(&photons), settings.radius))
+    });
     for radius in [settings.radius, settings.radius * 0.5] {
         grid.build(&photons, radius);
         let ctx = GatherContext {
@@ -83,17 +93,21 @@ fn photon_map(c: &mut Criterion) {
             inv_paths: 1.0 / 200_000.0,
         };
         g.throughput(Throughput::Elements(points.len() as u64));
-        g.bench_with_input(BenchmarkId::new("gather", format!("r={radius}")), &points, |b, points| {
-            b.iter(|| {
-                let mut sum = Vec3::ZERO;
-                for (hit, wo) in points {
-                    let sf = ShadingFrame::new(hit, *wo);
-                    let bsdf = &scene.material(hit).bsdf;
-                    sum += density_estimate(&ctx, hit, &sf, *wo, bsdf);
-                }
-                sum
-            })
-        });
+        g.bench_with_input(
+            BenchmarkId::new("gather", format!("r={radius}")),
+            &points,
+            |b, points| {
+                b.iter(|| {
+                    let mut sum = Vec3::ZERO;
+                    for (hit, wo) in points {
+                        let sf = ShadingFrame::new(hit, *wo);
+                        let bsdf = &scene.material(hit).bsdf;
+                        sum += density_estimate(&ctx, hit, &sf, *wo, bsdf);
+                    }
+                    sum
+                })
+            },
+        );
     }
 }
 

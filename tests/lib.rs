@@ -13,13 +13,15 @@ pub const SCENES: [&str; 4] = [
 
 /// Path of a shipped scene.
 pub fn scene_path(name: &str) -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../scenes").join(name)
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../scenes")
+        .join(name)
 }
 
 /// Loads a shipped scene's parts (unbuilt) at the given resolution.
 pub fn load_small(name: &str, width: u32, height: u32) -> SceneBuilder {
-    let (mut builder, warnings) = ppm_scene::load_scene_builder(&scene_path(name))
-        .unwrap_or_else(|e| panic!("{name}: {e}"));
+    let (mut builder, warnings) =
+        ppm_scene::load_scene_builder(&scene_path(name)).unwrap_or_else(|e| panic!("{name}: {e}"));
     assert!(warnings.is_empty(), "{name}: {warnings:?}");
     builder.camera.set_resolution(width, height).unwrap();
     builder

@@ -13,16 +13,26 @@ fn every_scene_renders_with_both_algorithms_without_nan() {
     for name in SCENES {
         let scene = load_small(name, 48, 40).build().unwrap();
         for algorithm in [Algorithm::Path, Algorithm::Ppm] {
-            let settings = RenderSettings { algorithm, photons: 20_000, ..RenderSettings::new(&scene) };
+            let settings = RenderSettings {
+                algorithm,
+                photons: 20_000,
+                ..RenderSettings::new(&scene)
+            };
             let mut r = Renderer::new(&scene, &settings);
             for _ in 0..3 {
                 let stats = r.iterate(&scene);
                 assert_eq!(stats.rejected, 0, "{name} {algorithm:?}: NaN/Inf samples");
             }
             let image = r.image();
-            assert!(image.pixels.iter().all(|p| p.is_finite() && p.min_element() >= 0.0));
+            assert!(image
+                .pixels
+                .iter()
+                .all(|p| p.is_finite() && p.min_element() >= 0.0));
             let mean = image.mean();
-            assert!(mean.min_element() > 0.01, "{name} {algorithm:?}: too dark ({mean})");
+            assert!(
+                mean.min_element() > 0.01,
+                "{name} {algorithm:?}: too dark ({mean})"
+            );
         }
     }
 }
@@ -65,13 +75,26 @@ fn far_and_tiny_scenes_render_like_the_original() {
     // Positions are f32: 10^5 units from the origin their spacing is 2^-7 = 7.8 mm, coarser
     // than the 3 mm gaps between the water volume and the walls, so the input itself cannot
     // be represented there; the water scene is moved 10^4 units (spacing 1 mm) instead.
-    for (name, far) in [("cornell_box_specular.yml", 1e5), ("cornell_box_glossy.yml", 1e5), ("cornell_box_water.yml", 1e4)] {
+    for (name, far) in [
+        ("cornell_box_specular.yml", 1e5),
+        ("cornell_box_glossy.yml", 1e5),
+        ("cornell_box_water.yml", 1e4),
+    ] {
         let original = load_small(name, 24, 20).build().unwrap();
-        let base = RenderSettings { algorithm: Algorithm::Path, seed: 1, ..RenderSettings::new(&original) };
+        let base = RenderSettings {
+            algorithm: Algorithm::Path,
+            seed: 1,
+            ..RenderSettings::new(&original)
+        };
         let reference = render(&original, &base, 400);
         for (scale, offset) in [(1.0, Vec3::splat(far)), (1e-3, Vec3::ZERO)] {
-            let scene = transform(load_small(name, 24, 20), scale, offset).build().unwrap();
-            let settings = RenderSettings { seed: 2, ..base.clone() };
+            let scene = transform(load_small(name, 24, 20), scale, offset)
+                .build()
+                .unwrap();
+            let settings = RenderSettings {
+                seed: 2,
+                ..base.clone()
+            };
             let moved = render(&scene, &settings, 400);
             let z = z_scores(&reference, &moved);
             let beyond = z.iter().filter(|z| z.abs() > 4.5).count();
@@ -83,7 +106,10 @@ fn far_and_tiny_scenes_render_like_the_original() {
             );
             let (a, b) = (reference.image_mean(), moved.image_mean());
             let se = (reference.image_mean_se().powi(2) + moved.image_mean_se().powi(2)).sqrt();
-            assert!((a - b).abs() < 4.0 * se, "{name} scale {scale}: image mean {a} vs {b}");
+            assert!(
+                (a - b).abs() < 4.0 * se,
+                "{name} scale {scale}: image mean {a} vs {b}"
+            );
         }
     }
 }

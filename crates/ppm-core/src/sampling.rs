@@ -151,7 +151,7 @@ impl Distribution1D {
     /// The distribution over `weights`; all-zero (or empty) weights give an empty distribution.
     pub fn new(weights: &[f32]) -> Self {
         let total: f64 = weights.iter().map(|&w| w.max(0.0) as f64).sum();
-        if !(total > 0.0) || !total.is_finite() {
+        if total <= 0.0 || !total.is_finite() {
             return Self::default();
         }
         let mut cdf = Vec::with_capacity(weights.len() + 1);

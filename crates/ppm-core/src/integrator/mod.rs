@@ -12,7 +12,8 @@ mod shading;
 pub use direct::{emission_mis_weight, estimate_direct};
 pub use path::PathTracer;
 pub use ppm::{
-    density_estimate, stores_photons, GatherContext, PpmRenderer, RadiusSchedule, MAX_LIGHT_PATHS,
+    density_estimate, stores_photons, trace_light_path, GatherContext, PpmRenderer, RadiusSchedule,
+    MAX_LIGHT_PATHS,
 };
 pub use settings::{Algorithm, DirectMode, LightStrategy, RenderSettings};
 pub use shading::ShadingFrame;

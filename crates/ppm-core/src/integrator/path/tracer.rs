@@ -96,7 +96,7 @@ pub fn radiance(
 
         if depth + 1 >= settings.rr_depth {
             let survive = throughput.max_element().min(1.0);
-            if !(rng.uniform() < survive) {
+            if survive.is_nan() || rng.uniform() >= survive {
                 break;
             }
             throughput /= survive;

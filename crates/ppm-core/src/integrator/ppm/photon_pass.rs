@@ -64,7 +64,7 @@ pub fn trace_light_path(
         return;
     };
     let mut flux = emission.flux;
-    if !(flux.max_element() > 0.0) || !flux.is_finite() {
+    if flux.max_element() <= 0.0 || !flux.is_finite() {
         return;
     }
     let mut ray = Light::emission_ray(&emission);
@@ -98,7 +98,7 @@ pub fn trace_light_path(
             shading_normal_correction(TransportMode::Importance, wo, wi, hit.ng, sf.frame.z);
         let scattered = flux * s.weight * correction;
         let survive = (scattered.max_element() / flux.max_element()).min(1.0);
-        if !(rng.uniform() < survive) {
+        if survive.is_nan() || rng.uniform() >= survive {
             return;
         }
         flux = scattered / survive;
