@@ -64,7 +64,14 @@ impl Photon {
     /// The angular error of the 2 x 16-bit encoding is below 1e-4 radians.
     #[inline]
     pub fn wi(&self) -> Vec3 {
-        oct_decode(self.wi)
+        oct_unfold(self.wi).normalize()
+    }
+
+    /// True if the photon arrived from the side of the surface that `n` points to
+    /// (`wi . n > 0`). Cheaper than [`Photon::wi`]: the sign needs no normalisation.
+    #[inline]
+    pub fn arrived_from(&self, n: Vec3) -> bool {
+        oct_unfold(self.wi).dot(n) > 0.0
     }
 
     /// A total order key: the path index first, then every other bit of the record.
@@ -112,9 +119,10 @@ fn oct_encode(v: Vec3) -> [i16; 2] {
     [q(u), q(w)]
 }
 
-/// Inverse of [`oct_encode`]: unfold the square back onto the octahedron and normalise.
+/// Inverse of [`oct_encode`] up to length: unfold the square back onto the octahedron
+/// (|x| + |y| + |z| = 1); normalising gives the direction.
 #[inline]
-fn oct_decode(e: [i16; 2]) -> Vec3 {
+fn oct_unfold(e: [i16; 2]) -> Vec3 {
     let u = e[0] as f32 * (1.0 / 32767.0);
     let w = e[1] as f32 * (1.0 / 32767.0);
     let z = 1.0 - u.abs() - w.abs();
@@ -126,7 +134,7 @@ fn oct_decode(e: [i16; 2]) -> Vec3 {
     } else {
         (u, w)
     };
-    Vec3::new(x, y, z).normalize()
+    Vec3::new(x, y, z)
 }
 
 #[cfg(test)]

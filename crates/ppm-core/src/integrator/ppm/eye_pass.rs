@@ -30,41 +30,27 @@ pub struct EyeCounters {
     pub shadow_rays: u64,
 }
 
-/// The photon density estimate of the radiance reflected by the diffuse lobe `bsdf` at `hit`
-/// toward `wo`:
+/// The photon density estimate of the radiance reflected toward `wo` at `hit` by a diffuse
+/// lobe of albedo `albedo` (a diffuse surface, or the diffuse lobe of a phong surface):
 ///
-/// L(x, wo) = sum over photons p within r of f(wo, wi_p) k(d_p^2) Phi_p / N,
+/// L(x, wo) = sum over photons p within r of f k(d_p^2) Phi_p / N,   f = albedo / pi,
 /// k(d^2) = 2 (1 - d^2 / r^2) / (pi r^2)  (Epanechnikov, normalised over the disc),
 ///
 /// where Phi_p is the flux of the photon's light path and N the number of light paths.
-/// Photons that arrived from the other side of the surface (wi_p . n <= 0 with n the
-/// geometric normal turned toward the viewer) are rejected: they lit the back of a thin wall.
-/// The flux per unit geometric area is taken as the irradiance about the shading frame,
-/// which is exact on flat-shaded surfaces (ns = ng).
+/// f does not depend on the directions, so it leaves the sum. Photons that arrived from the
+/// other side of the surface (wi_p . n <= 0, n the geometric normal turned toward the viewer)
+/// are rejected: they lit the back of a thin wall. The flux per unit geometric area is taken
+/// as the irradiance, which is exact on flat-shaded surfaces (ns = ng).
 #[inline]
-pub fn density_estimate(
-    ctx: &GatherContext<'_>,
-    hit: &Hit,
-    sf: &ShadingFrame,
-    wo: Vec3,
-    bsdf: &Bsdf,
-) -> Vec3 {
-    let n_view = if wo.dot(hit.ng) >= 0.0 {
-        hit.ng
-    } else {
-        -hit.ng
-    };
+pub fn density_estimate(ctx: &GatherContext<'_>, hit: &Hit, wo: Vec3, albedo: Vec3) -> Vec3 {
+    let n_view = if wo.dot(hit.ng) >= 0.0 { hit.ng } else { -hit.ng };
     let mut sum = Vec3::ZERO;
-    ctx.grid
-        .for_each_in_radius(hit.p, ctx.radius, |photon, d2| {
-            let wi = photon.wi();
-            if wi.dot(n_view) <= 0.0 {
-                return;
-            }
-            let f = bsdf.eval(sf.wo, sf.frame.to_local(wi), TransportMode::Radiance);
-            sum += f * photon.flux * ctx.kernel.weight(d2);
-        });
-    sum * ctx.inv_paths
+    ctx.grid.for_each_in_radius(hit.p, ctx.radius, |photon, d2| {
+        if photon.arrived_from(n_view) {
+            sum += photon.flux * ctx.kernel.weight(d2);
+        }
+    });
+    sum * (albedo * (std::f32::consts::FRAC_1_PI * ctx.inv_paths))
 }
 
 /// The eye path through pixel `pixel` of iteration `iteration`; returns its radiance estimate.
@@ -120,8 +106,8 @@ pub fn trace_eye_path(
         let sf = ShadingFrame::new(&hit, wo);
         // The lobe the path continues with, if any.
         let continue_with = match &material.bsdf {
-            Bsdf::Diffuse(_) => {
-                l += throughput * density_estimate(ctx, &hit, &sf, wo, &material.bsdf);
+            Bsdf::Diffuse(d) => {
+                l += throughput * density_estimate(ctx, &hit, wo, d.albedo);
                 if sampled_direct {
                     let (ld, traced) =
                         estimate_direct(scene, &hit, &sf, wo, &material.bsdf, &mut rng, false);
@@ -133,7 +119,7 @@ pub fn trace_eye_path(
             Bsdf::Phong(p) => {
                 if p.diffuse.max_element() > 0.0 {
                     let diffuse = Bsdf::diffuse(p.diffuse);
-                    l += throughput * density_estimate(ctx, &hit, &sf, wo, &diffuse);
+                    l += throughput * density_estimate(ctx, &hit, wo, p.diffuse);
                     if sampled_direct {
                         let (ld, traced) =
                             estimate_direct(scene, &hit, &sf, wo, &diffuse, &mut rng, false);
