@@ -43,13 +43,18 @@ pub struct EyeCounters {
 /// as the irradiance, which is exact on flat-shaded surfaces (ns = ng).
 #[inline]
 pub fn density_estimate(ctx: &GatherContext<'_>, hit: &Hit, wo: Vec3, albedo: Vec3) -> Vec3 {
-    let n_view = if wo.dot(hit.ng) >= 0.0 { hit.ng } else { -hit.ng };
+    let n_view = if wo.dot(hit.ng) >= 0.0 {
+        hit.ng
+    } else {
+        -hit.ng
+    };
     let mut sum = Vec3::ZERO;
-    ctx.grid.for_each_in_radius(hit.p, ctx.radius, |photon, d2| {
-        if photon.arrived_from(n_view) {
-            sum += photon.flux * ctx.kernel.weight(d2);
-        }
-    });
+    ctx.grid
+        .for_each_in_radius(hit.p, ctx.radius, |photon, d2| {
+            if photon.arrived_from(n_view) {
+                sum += photon.flux * ctx.kernel.weight(d2);
+            }
+        });
     sum * (albedo * (std::f32::consts::FRAC_1_PI * ctx.inv_paths))
 }
 
