@@ -234,6 +234,41 @@ impl HashGrid {
         }
     }
 
+    /// Calls `f(photon, d²)` for every photon of the buckets that the gather sphere of radius
+    /// `r` around `p` touches, each at most once, **including photons farther than `r`**
+    /// (d² > r²): every photon within `r` is among them. For a kernel that vanishes outside
+    /// the radius the caller can then sum without a branch per photon, which is faster than
+    /// [`HashGrid::for_each_in_radius`] when many candidates fall outside the sphere.
+    #[inline]
+    pub fn for_each_candidate(&self, p: Vec3, r: f32, mut f: impl FnMut(&Photon, f32)) {
+        let pad = r * (1.0 + 1e-6) + p.abs().max_element() * 1e-6;
+        let (lo, hi) = (self.hash.cell(p - pad), self.hash.cell(p + pad));
+        if !(lo.cmple(hi).all()) || self.photons.is_empty() {
+            return;
+        }
+        let extent = (hi.as_i64vec3() - lo.as_i64vec3()) + 1;
+        if extent.x * extent.y * extent.z > SMALL_QUERY as i64 {
+            // Rare (radius larger than the grid's cells): the exact query.
+            return self.for_each_in_radius(p, r, f);
+        }
+        let mut seen = [0usize; SMALL_QUERY];
+        let mut n_seen = 0;
+        for z in lo.z..=hi.z {
+            for y in lo.y..=hi.y {
+                for x in lo.x..=hi.x {
+                    let b = self.hash.bucket(IVec3::new(x, y, z));
+                    if !seen[..n_seen].contains(&b) {
+                        seen[n_seen] = b;
+                        n_seen += 1;
+                        for photon in self.bucket(b) {
+                            f(photon, photon.position.distance_squared(p));
+                        }
+                    }
+                }
+            }
+        }
+    }
+
     /// The photons of bucket `b`.
     #[inline]
     fn bucket(&self, b: usize) -> &[Photon] {
