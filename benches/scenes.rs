@@ -100,9 +100,12 @@ fn photon_map(c: &mut Criterion) {
                 b.iter(|| {
                     let mut sum = Vec3::ZERO;
                     for (hit, wo) in points {
-                        let sf = ShadingFrame::new(hit, *wo);
-                        let bsdf = &scene.material(hit).bsdf;
-                        sum += density_estimate(&ctx, hit, &sf, *wo, bsdf);
+                        let albedo = match scene.material(hit).bsdf {
+                            Bsdf::Diffuse(d) => d.albedo,
+                            Bsdf::Phong(p) => p.diffuse,
+                            _ => unreachable!("gather points store photons"),
+                        };
+                        sum += density_estimate(&ctx, hit, *wo, albedo);
                     }
                     sum
                 })
