@@ -170,7 +170,7 @@ pub fn run(args: &RenderArgs, interrupt: &Interrupt) -> Result<Outcome> {
             Ok((
                 totals,
                 renderer.image(),
-                renderer.rejected(),
+                (renderer.rejected(), renderer.first_rejected()),
                 renderer.memory_bytes(),
             ))
         })??;
@@ -178,6 +178,7 @@ pub fn run(args: &RenderArgs, interrupt: &Interrupt) -> Result<Outcome> {
     output::write_outputs(&paths, &image)?;
     eprintln!("wrote {} and {}", paths.png.display(), paths.exr.display());
     let camera = &scene.camera;
+    let (rejected, first_rejected) = rejected;
     let summary = Summary {
         width: camera.width,
         height: camera.height,
@@ -188,6 +189,14 @@ pub fn run(args: &RenderArgs, interrupt: &Interrupt) -> Result<Outcome> {
         peak_rss_bytes: peak_rss_bytes(),
     };
     eprintln!("{}", summary.line());
+    if let Some((iteration, pixel)) = first_rejected {
+        eprintln!(
+            "first rejected sample: iteration {iteration} (0-based), pixel ({}, {}), seed {}",
+            pixel % camera.width,
+            pixel / camera.width,
+            args.settings.seed
+        );
+    }
     if let Some(last) = tracker.as_ref().and_then(|t| t.samples.last()) {
         eprintln!(
             "error against {}: relMSE {:.4e}, RMSE {:.4e}",

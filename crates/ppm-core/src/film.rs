@@ -50,6 +50,9 @@ pub struct Film {
     iterations: u64,
     /// Samples dropped because they were NaN or infinite.
     rejected: u64,
+    /// (iteration, pixel) of the first dropped sample: random streams are keyed by them, so
+    /// the offending path can be traced again in isolation.
+    first_rejected: Option<(u64, u32)>,
 }
 
 impl Film {
@@ -61,6 +64,7 @@ impl Film {
             sum: vec![[0.0; 3]; (width * height) as usize],
             iterations: 0,
             rejected: 0,
+            first_rejected: None,
         }
     }
 
@@ -68,13 +72,14 @@ impl Film {
     /// are dropped (counted in [`Film::rejected`]) and count as zero.
     pub fn add_iteration(&mut self, estimates: &[Vec3]) {
         assert_eq!(estimates.len(), self.sum.len());
-        for (s, e) in self.sum.iter_mut().zip(estimates) {
+        for (pixel, (s, e)) in self.sum.iter_mut().zip(estimates).enumerate() {
             if e.is_finite() && e.min_element() >= 0.0 {
                 s[0] += e.x as f64;
                 s[1] += e.y as f64;
                 s[2] += e.z as f64;
             } else {
                 self.rejected += 1;
+                self.first_rejected.get_or_insert((self.iterations, pixel as u32));
             }
         }
         self.iterations += 1;
@@ -93,6 +98,11 @@ impl Film {
     /// Non-finite samples dropped so far.
     pub fn rejected(&self) -> u64 {
         self.rejected
+    }
+
+    /// (iteration, pixel) of the first sample dropped as NaN, infinite or negative.
+    pub fn first_rejected(&self) -> Option<(u64, u32)> {
+        self.first_rejected
     }
 
     /// The average of all iterations (black before the first).

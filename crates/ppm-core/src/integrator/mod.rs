@@ -92,6 +92,15 @@ impl Renderer {
         }
     }
 
+    /// (iteration, pixel) of the first sample dropped as NaN, infinite or negative: random
+    /// streams are keyed by (seed, iteration, pixel), so that path can be traced again.
+    pub fn first_rejected(&self) -> Option<(u64, u32)> {
+        match self {
+            Renderer::Path(r) => r.film().first_rejected(),
+            Renderer::Ppm(r) => r.film().first_rejected(),
+        }
+    }
+
     /// Bytes of the render state's large buffers (film, photons, grid).
     pub fn memory_bytes(&self) -> usize {
         match self {
