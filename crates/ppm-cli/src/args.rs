@@ -104,7 +104,8 @@ pub struct SettingsArgs {
     /// Longest eye or light path, in bounces.
     #[arg(long)]
     pub max_depth: Option<u32>,
-    /// Photon mapping: direct light from photons or by light sampling.
+    /// Photon mapping: direct light from photons or by light sampling [default: sampled, the
+    /// lower equal-time error measured on the Cornell box scenes]
     #[arg(long, value_enum)]
     pub direct: Option<DirectArg>,
     /// Path tracing: how light is found (only mis is meant for production).

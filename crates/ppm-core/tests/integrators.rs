@@ -64,20 +64,17 @@ fn path_tracer_furnace_sees_one_over_one_minus_albedo() {
 #[test]
 fn ppm_furnace_converges_to_five() {
     let scene = furnace(0.8, 6);
-    let settings = RenderSettings {
-        max_depth: 100_000,
-        photons: 20_000,
-        radius: 0.03,
-        ..RenderSettings::new(&scene)
-    };
-    let stats = render_stats(&scene, &settings, 24);
-    assert_uniform_image(&stats, 5.0, 5.0, "ppm photons");
-    let sampled = RenderSettings {
-        direct: DirectMode::Sampled,
-        ..settings
-    };
-    let stats = render_stats(&scene, &sampled, 24);
-    assert_uniform_image(&stats, 5.0, 5.0, "ppm sampled");
+    for direct in [DirectMode::Photons, DirectMode::Sampled] {
+        let settings = RenderSettings {
+            max_depth: 100_000,
+            photons: 20_000,
+            radius: 0.03,
+            direct,
+            ..RenderSettings::new(&scene)
+        };
+        let stats = render_stats(&scene, &settings, 24);
+        assert_uniform_image(&stats, 5.0, 5.0, &format!("ppm {direct:?}"));
+    }
 }
 
 #[test]

