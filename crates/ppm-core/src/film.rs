@@ -79,7 +79,8 @@ impl Film {
                 s[2] += e.z as f64;
             } else {
                 self.rejected += 1;
-                self.first_rejected.get_or_insert((self.iterations, pixel as u32));
+                self.first_rejected
+                    .get_or_insert((self.iterations, pixel as u32));
             }
         }
         self.iterations += 1;

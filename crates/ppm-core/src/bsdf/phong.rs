@@ -55,7 +55,12 @@ impl Phong {
         // cos(alpha) = 1 - |r - wi|^2 / 2, so cos^n = exp(n ln(1 - |r - wi|^2 / 2)). Near the
         // peak cos(alpha) rounds to 1 in f32, which would cost cos^1000 four digits; the chord
         // length keeps them.
+        // Directions a few ulps off unit length can make h >= 1 although r . wi > 0 (alpha
+        // a hair under 90 degrees): ln_1p(-h) would then be -inf or NaN. cos^n is 0 there.
         let h = 0.5 * (r - wi).length_squared();
+        if h >= 1.0 {
+            return 0.0;
+        }
         (self.exponent * (-h).ln_1p()).exp()
     }
 
@@ -126,5 +131,37 @@ impl Phong {
             pdf,
             lobe,
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sampling::{uniform_sphere, Rng};
+
+    #[test]
+    fn finite_when_wi_is_almost_perpendicular_to_the_mirror_direction() {
+        // Found in a render (1 sample in 10^8 was NaN): a light direction a few ulps longer
+        // than 1, nearly perpendicular to reflect(wo), gave h > 1 and ln_1p(-h) = NaN.
+        let mut rng = Rng::new(11, 0, 0);
+        for exponent in [0.0, 1.0, 30.0, 1000.0] {
+            let phong = Phong::new(Vec3::splat(0.2), Vec3::splat(0.7), exponent);
+            for _ in 0..100_000 {
+                let mut wo = uniform_sphere(rng.uniform2());
+                wo.z = wo.z.abs().max(1e-3);
+                let wo = wo.normalize();
+                let r = reflect(wo);
+                let perp = r.any_orthonormal_vector();
+                let lean = (rng.uniform() - 0.5) * 1e-6;
+                let stretch = 1.0 + (rng.uniform() - 0.5) * 8.0 * f32::EPSILON;
+                let wi = (perp + r * lean).normalize() * stretch;
+                let (f, pdf) = (phong.eval(wo, wi), phong.pdf(wo, wi));
+                assert!(
+                    f.is_finite() && f.min_element() >= 0.0,
+                    "n {exponent}: f {f}"
+                );
+                assert!(pdf.is_finite() && pdf >= 0.0, "n {exponent}: pdf {pdf}");
+            }
+        }
     }
 }
