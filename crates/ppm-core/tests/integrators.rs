@@ -181,6 +181,7 @@ fn first_hit_photons_carry_the_lights_power() {
     let settings = RenderSettings {
         max_depth: 1,
         photons: 200_000,
+        direct: DirectMode::Photons, // first-hit photons are stored
         ..RenderSettings::new(&scene)
     };
     let mut r = PpmRenderer::new(&scene, settings.clone());
@@ -266,20 +267,25 @@ fn photons_never_leak_through_a_thin_wall() {
             lamp,
         ));
         let scene = b.build().unwrap();
-        let settings = RenderSettings {
-            photons: 20_000,
-            radius: 0.1,
-            ..RenderSettings::new(&scene)
-        };
-        let mut r = Renderer::new(&scene, &settings);
-        r.iterate(&scene);
-        assert!(
-            r.image().pixels.iter().all(|p| *p == Vec3::ZERO),
-            "thickness {thickness}: light leaked"
-        );
-        // The lit side does receive photons (the test can fail).
-        if let Renderer::Ppm(ppm) = &r {
-            assert!(ppm.photon_map().len() > 10_000);
+        // Photons of every bounce (the lit side is covered with first-hit photons), and
+        // light sampling at the gather point (its shadow ray must not pass the wall either).
+        for direct in [DirectMode::Photons, DirectMode::Sampled] {
+            let settings = RenderSettings {
+                photons: 20_000,
+                radius: 0.1,
+                direct,
+                ..RenderSettings::new(&scene)
+            };
+            let mut r = Renderer::new(&scene, &settings);
+            r.iterate(&scene);
+            assert!(
+                r.image().pixels.iter().all(|p| *p == Vec3::ZERO),
+                "thickness {thickness}, {direct:?}: light leaked"
+            );
+            // The lit side does receive photons (the test can fail).
+            if let (Renderer::Ppm(ppm), DirectMode::Photons) = (&r, direct) {
+                assert!(ppm.photon_map().len() > 10_000);
+            }
         }
     }
 }

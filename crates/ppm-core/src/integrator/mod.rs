@@ -3,12 +3,14 @@
 //! A render is a sequence of iterations; after each one the image (the average of all
 //! iteration estimates) is a valid result, so a render can stop at any iteration.
 
+mod camera_path;
 mod direct;
 mod path;
 mod ppm;
 mod settings;
 mod shading;
 
+pub use camera_path::CameraPath;
 pub use direct::{emission_mis_weight, estimate_direct};
 pub use path::PathTracer;
 pub use ppm::{

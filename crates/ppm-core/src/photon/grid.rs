@@ -182,15 +182,9 @@ impl HashGrid {
     #[inline]
     pub fn for_each_in_radius(&self, p: Vec3, r: f32, mut f: impl FnMut(&Photon, f32)) {
         let r2 = r * r;
-        // Pad the cube so that rounding in `p ± r` or in d² never leaves out a photon with
-        // computed d² <= r² (a few ulps of r and of |p| suffice; this is generous).
-        let pad = r * (1.0 + 1e-6) + p.abs().max_element() * 1e-6;
-        let (lo, hi) = (self.hash.cell(p - pad), self.hash.cell(p + pad));
-        if !(lo.cmple(hi).all()) || self.photons.is_empty() {
-            return; // r < 0 or NaN, or nothing stored
-        }
-        let extent = (hi.as_i64vec3() - lo.as_i64vec3()) + 1;
-        let cells = extent.x.saturating_mul(extent.y).saturating_mul(extent.z);
+        let Some((lo, hi, cells)) = self.cell_range(p, r) else {
+            return;
+        };
 
         let mut scan = |photons: &[Photon], cell: Option<IVec3>| {
             for photon in photons {
@@ -241,13 +235,10 @@ impl HashGrid {
     /// [`HashGrid::for_each_in_radius`] when many candidates fall outside the sphere.
     #[inline]
     pub fn for_each_candidate(&self, p: Vec3, r: f32, mut f: impl FnMut(&Photon, f32)) {
-        let pad = r * (1.0 + 1e-6) + p.abs().max_element() * 1e-6;
-        let (lo, hi) = (self.hash.cell(p - pad), self.hash.cell(p + pad));
-        if !(lo.cmple(hi).all()) || self.photons.is_empty() {
+        let Some((lo, hi, cells)) = self.cell_range(p, r) else {
             return;
-        }
-        let extent = (hi.as_i64vec3() - lo.as_i64vec3()) + 1;
-        if extent.x * extent.y * extent.z > SMALL_QUERY as i64 {
+        };
+        if cells > SMALL_QUERY as i64 {
             // Rare (radius larger than the grid's cells): the exact query.
             return self.for_each_in_radius(p, r, f);
         }
@@ -267,6 +258,25 @@ impl HashGrid {
                 }
             }
         }
+    }
+
+    /// The cells (lowest, highest, count) that the sphere of radius `r` around `p` overlaps;
+    /// `None` when nothing can be found (r < 0 or NaN, or no photon stored). The cube is
+    /// padded so that rounding in `p ± r` or in d² never leaves out a photon with computed
+    /// d² <= r² (a few ulps of r and of |p| suffice; this is generous).
+    #[inline]
+    fn cell_range(&self, p: Vec3, r: f32) -> Option<(IVec3, IVec3, i64)> {
+        let pad = r * (1.0 + 1e-6) + p.abs().max_element() * 1e-6;
+        let (lo, hi) = (self.hash.cell(p - pad), self.hash.cell(p + pad));
+        if !(lo.cmple(hi).all()) || self.photons.is_empty() {
+            return None;
+        }
+        let extent = (hi.as_i64vec3() - lo.as_i64vec3()) + 1;
+        Some((
+            lo,
+            hi,
+            extent.x.saturating_mul(extent.y).saturating_mul(extent.z),
+        ))
     }
 
     /// The photons of bucket `b`.

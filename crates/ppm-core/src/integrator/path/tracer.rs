@@ -1,10 +1,9 @@
 //! The per-path kernel of the path tracer.
 
-use crate::bsdf::{Lobe, TransportMode};
 use crate::geometry::Ray;
 use crate::integrator::direct::{emission_mis_weight, estimate_direct};
 use crate::integrator::shading::ShadingFrame;
-use crate::integrator::{LightStrategy, RenderSettings};
+use crate::integrator::{CameraPath, LightStrategy, RenderSettings};
 use crate::sampling::Rng;
 use crate::scene::Scene;
 use glam::Vec3;
@@ -42,11 +41,7 @@ pub fn radiance(
 ) -> Vec3 {
     let strategy = settings.light_strategy;
     let mut l = Vec3::ZERO;
-    let mut throughput = Vec3::ONE;
-    // State of the previous vertex, for MIS on emission found by BSDF sampling.
-    let mut prev_specular = true;
-    let mut prev_pdf = 0.0f32;
-    let mut prev_p = ray.origin;
+    let mut path = CameraPath::new(ray.origin);
     for depth in 0..=settings.max_depth {
         counters.rays += 1;
         let Some(hit) = scene.intersect(&ray) else {
@@ -56,16 +51,18 @@ pub fn radiance(
         let wo = -ray.dir;
 
         if material.is_emissive() && wo.dot(hit.ng) > 0.0 {
-            let weight = if prev_specular {
+            let weight = if path.prev_specular {
                 1.0
             } else {
                 match strategy {
-                    LightStrategy::Mis => emission_mis_weight(scene, prev_p, prev_pdf, &hit),
+                    LightStrategy::Mis => {
+                        emission_mis_weight(scene, path.prev_p, path.prev_pdf, &hit)
+                    }
                     LightStrategy::LightOnly => 0.0,
                     LightStrategy::BsdfOnly => 1.0,
                 }
             };
-            l += throughput * material.emission * weight;
+            l += path.throughput * material.emission * weight;
         }
         if depth == settings.max_depth {
             break;
@@ -77,31 +74,13 @@ pub fn radiance(
             let mis = strategy == LightStrategy::Mis;
             let (ld, traced) = estimate_direct(scene, &hit, &sf, wo, bsdf, rng, mis);
             counters.shadow_rays += traced as u64;
-            l += throughput * ld;
+            l += path.throughput * ld;
         }
 
-        let u_lobe = rng.uniform();
-        let u = rng.uniform2();
-        let Some(s) = bsdf.sample(sf.wo, u_lobe, u, TransportMode::Radiance) else {
+        let Some(next) = path.scatter(bsdf, &sf, &hit, wo, rng, depth, settings.rr_depth) else {
             break;
         };
-        let wi = sf.frame.to_world(s.wi);
-        if !sf.consistent(&hit, wo, wi, s.wi) {
-            break;
-        }
-        throughput *= s.weight;
-        prev_specular = s.lobe == Lobe::Specular;
-        prev_pdf = s.pdf;
-        prev_p = hit.p;
-
-        if depth + 1 >= settings.rr_depth {
-            let survive = throughput.max_element().min(1.0);
-            if survive.is_nan() || rng.uniform() >= survive {
-                break;
-            }
-            throughput /= survive;
-        }
-        ray = Ray::spawn(hit.p, hit.ng, wi);
+        ray = next;
     }
     l
 }

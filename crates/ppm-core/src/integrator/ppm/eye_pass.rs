@@ -1,11 +1,11 @@
 //! The eye pass (assignment parts 6.2 and 6.4): camera paths through specular chains to a
 //! diffuse point, where the photon map gives the reflected radiance.
 
-use crate::bsdf::{Bsdf, Lobe, Phong, TransportMode};
-use crate::geometry::{Hit, Ray};
+use crate::bsdf::{Bsdf, Phong};
+use crate::geometry::Hit;
 use crate::integrator::direct::{emission_mis_weight, estimate_direct};
 use crate::integrator::shading::ShadingFrame;
-use crate::integrator::{DirectMode, RenderSettings};
+use crate::integrator::{CameraPath, DirectMode, RenderSettings};
 use crate::photon::{HashGrid, Kernel};
 use crate::sampling::Rng;
 use crate::scene::Scene;
@@ -86,10 +86,7 @@ pub fn trace_eye_path(
     let mut ray = scene.camera.generate_ray(film);
     let sampled_direct = settings.direct == DirectMode::Sampled;
     let mut l = Vec3::ZERO;
-    let mut throughput = Vec3::ONE;
-    let mut prev_specular = true;
-    let mut prev_pdf = 0.0f32;
-    let mut prev_p = ray.origin;
+    let mut path = CameraPath::new(ray.origin);
     for depth in 0..=settings.max_depth {
         counters.rays += 1;
         let Some(hit) = scene.intersect(&ray) else {
@@ -98,12 +95,12 @@ pub fn trace_eye_path(
         let material = scene.material(&hit);
         let wo = -ray.dir;
         if material.is_emissive() && wo.dot(hit.ng) > 0.0 {
-            let weight = if prev_specular {
+            let weight = if path.prev_specular {
                 1.0
             } else {
-                emission_mis_weight(scene, prev_p, prev_pdf, &hit)
+                emission_mis_weight(scene, path.prev_p, path.prev_pdf, &hit)
             };
-            l += throughput * material.emission * weight;
+            l += path.throughput * material.emission * weight;
         }
         if depth == settings.max_depth {
             break;
@@ -112,24 +109,24 @@ pub fn trace_eye_path(
         // The lobe the path continues with, if any.
         let continue_with = match &material.bsdf {
             Bsdf::Diffuse(d) => {
-                l += throughput * density_estimate(ctx, &hit, wo, d.albedo);
+                l += path.throughput * density_estimate(ctx, &hit, wo, d.albedo);
                 if sampled_direct {
                     let (ld, traced) =
                         estimate_direct(scene, &hit, &sf, wo, &material.bsdf, &mut rng, false);
                     counters.shadow_rays += traced as u64;
-                    l += throughput * ld;
+                    l += path.throughput * ld;
                 }
                 break;
             }
             Bsdf::Phong(p) => {
                 if p.diffuse.max_element() > 0.0 {
                     let diffuse = Bsdf::diffuse(p.diffuse);
-                    l += throughput * density_estimate(ctx, &hit, wo, p.diffuse);
+                    l += path.throughput * density_estimate(ctx, &hit, wo, p.diffuse);
                     if sampled_direct {
                         let (ld, traced) =
                             estimate_direct(scene, &hit, &sf, wo, &diffuse, &mut rng, false);
                         counters.shadow_rays += traced as u64;
-                        l += throughput * ld;
+                        l += path.throughput * ld;
                     }
                 }
                 if p.specular.max_element() <= 0.0 {
@@ -141,31 +138,23 @@ pub fn trace_eye_path(
                 });
                 let (ld, traced) = estimate_direct(scene, &hit, &sf, wo, &glossy, &mut rng, true);
                 counters.shadow_rays += traced as u64;
-                l += throughput * ld;
+                l += path.throughput * ld;
                 glossy
             }
             delta @ (Bsdf::Mirror(_) | Bsdf::Glass(_)) => *delta,
         };
-        let (u_lobe, u) = (rng.uniform(), rng.uniform2());
-        let Some(s) = continue_with.sample(sf.wo, u_lobe, u, TransportMode::Radiance) else {
+        let Some(next) = path.scatter(
+            &continue_with,
+            &sf,
+            &hit,
+            wo,
+            &mut rng,
+            depth,
+            settings.rr_depth,
+        ) else {
             break;
         };
-        let wi = sf.frame.to_world(s.wi);
-        if !sf.consistent(&hit, wo, wi, s.wi) {
-            break;
-        }
-        throughput *= s.weight;
-        prev_specular = s.lobe == Lobe::Specular;
-        prev_pdf = s.pdf;
-        prev_p = hit.p;
-        if depth + 1 >= settings.rr_depth {
-            let survive = throughput.max_element().min(1.0);
-            if survive.is_nan() || rng.uniform() >= survive {
-                break;
-            }
-            throughput /= survive;
-        }
-        ray = Ray::spawn(hit.p, hit.ng, wi);
+        ray = next;
     }
     l
 }

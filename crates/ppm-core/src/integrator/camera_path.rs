@@ -1,0 +1,69 @@
+//! What a camera path carries from vertex to vertex, and its BSDF-sampled continuation.
+
+use super::shading::ShadingFrame;
+use crate::bsdf::{Bsdf, Lobe, TransportMode};
+use crate::geometry::{Hit, Ray};
+use crate::sampling::Rng;
+use glam::Vec3;
+
+/// The throughput of a camera path and what MIS needs to know of its previous vertex.
+#[derive(Clone, Copy, Debug)]
+pub struct CameraPath {
+    /// Product of f |cos| / pdf (and Russian-roulette survival) along the path.
+    pub throughput: Vec3,
+    /// True at the camera and after a delta bounce: emission found next counts fully.
+    pub prev_specular: bool,
+    /// Solid-angle pdf of the last BSDF sample, for the MIS weight of emission it finds.
+    pub prev_pdf: f32,
+    /// The last vertex.
+    pub prev_p: Vec3,
+}
+
+impl CameraPath {
+    /// A path leaving the camera at `origin`.
+    pub fn new(origin: Vec3) -> Self {
+        CameraPath {
+            throughput: Vec3::ONE,
+            prev_specular: true,
+            prev_pdf: 0.0,
+            prev_p: origin,
+        }
+    }
+
+    /// Continues the path at `hit` by sampling `bsdf` (radiance mode): throughput *= f |cos| /
+    /// pdf. Returns the next ray, or `None` when the path ends: no sample, a direction whose
+    /// geometric side contradicts its lobe (it would leak through the surface), or Russian
+    /// roulette after `rr_depth` bounces, which survives with probability min(1, max channel
+    /// of the throughput) and divides the survivors by it.
+    #[inline]
+    #[allow(clippy::too_many_arguments)]
+    pub fn scatter(
+        &mut self,
+        bsdf: &Bsdf,
+        sf: &ShadingFrame,
+        hit: &Hit,
+        wo: Vec3,
+        rng: &mut Rng,
+        depth: u32,
+        rr_depth: u32,
+    ) -> Option<Ray> {
+        let (u_lobe, u) = (rng.uniform(), rng.uniform2());
+        let s = bsdf.sample(sf.wo, u_lobe, u, TransportMode::Radiance)?;
+        let wi = sf.frame.to_world(s.wi);
+        if !sf.consistent(hit, wo, wi, s.wi) {
+            return None;
+        }
+        self.throughput *= s.weight;
+        self.prev_specular = s.lobe == Lobe::Specular;
+        self.prev_pdf = s.pdf;
+        self.prev_p = hit.p;
+        if depth + 1 >= rr_depth {
+            let survive = self.throughput.max_element().min(1.0);
+            if survive.is_nan() || rng.uniform() >= survive {
+                return None;
+            }
+            self.throughput /= survive;
+        }
+        Some(Ray::spawn(hit.p, hit.ng, wi))
+    }
+}
