@@ -196,21 +196,7 @@ impl HashGrid {
         };
 
         if cells <= SMALL_QUERY as i64 {
-            // Common case: dedupe the few buckets in a stack array.
-            let mut seen = [0usize; SMALL_QUERY];
-            let mut n_seen = 0;
-            for z in lo.z..=hi.z {
-                for y in lo.y..=hi.y {
-                    for x in lo.x..=hi.x {
-                        let b = self.hash.bucket(IVec3::new(x, y, z));
-                        if !seen[..n_seen].contains(&b) {
-                            seen[n_seen] = b;
-                            n_seen += 1;
-                            scan(self.bucket(b), None);
-                        }
-                    }
-                }
-            }
+            self.for_each_distinct_bucket(lo, hi, |photons| scan(photons, None));
         } else if cells >= self.hash.buckets as i64 {
             // The sphere covers more cells than there are buckets: scan every photon once.
             scan(&self.photons, None);
@@ -242,6 +228,18 @@ impl HashGrid {
             // Rare (radius larger than the grid's cells): the exact query.
             return self.for_each_in_radius(p, r, f);
         }
+        self.for_each_distinct_bucket(lo, hi, |photons| {
+            for photon in photons {
+                f(photon, photon.position.distance_squared(p));
+            }
+        });
+    }
+
+    /// Calls `f` with the photons of each distinct bucket of the cells `lo..=hi` (at most
+    /// [`SMALL_QUERY`] cells): several cells may hash to one bucket, which is visited once;
+    /// the few buckets seen are remembered in a stack array.
+    #[inline]
+    fn for_each_distinct_bucket(&self, lo: IVec3, hi: IVec3, mut f: impl FnMut(&[Photon])) {
         let mut seen = [0usize; SMALL_QUERY];
         let mut n_seen = 0;
         for z in lo.z..=hi.z {
@@ -251,9 +249,7 @@ impl HashGrid {
                     if !seen[..n_seen].contains(&b) {
                         seen[n_seen] = b;
                         n_seen += 1;
-                        for photon in self.bucket(b) {
-                            f(photon, photon.position.distance_squared(p));
-                        }
+                        f(self.bucket(b));
                     }
                 }
             }
