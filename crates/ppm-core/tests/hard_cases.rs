@@ -10,13 +10,20 @@ use test_scenes::{add_block, cornell, render_stats, BoxContents, PixelStats};
 /// block holding a water block 1 mm away from its bottom and back faces. Radiance is
 /// uniform (L = 5) in a closed furnace and lossless refraction keeps it uniform (radiance
 /// changes by eta^2 entering a medium and back leaving it), so every pixel must still see 5.
-fn dielectric_furnace() -> Scene {
+/// The furnace room (camera at the centre of an inward sphere, albedo 0.8, emission 1) and
+/// the indices of a glass (ior 1.5) and a water (ior 1.33) material to put inside it.
+fn furnace_with_dielectrics() -> (SceneBuilder, u32, u32) {
     let camera = Camera::new(Vec3::ZERO, Vec3::NEG_Z, Vec3::Y, 70.0, (8, 8)).unwrap();
     let mut b = SceneBuilder::new(camera);
     let wall = b.add_material(Material::new(Bsdf::diffuse(Vec3::splat(0.8)), Vec3::ONE));
     let glass = b.add_material(Material::new(Bsdf::glass(1.5, Vec3::ONE), Vec3::ZERO));
     let water = b.add_material(Material::new(Bsdf::glass(1.33, Vec3::ONE), Vec3::ZERO));
     b.add_sphere(Sphere::new(Vec3::ZERO, 1.0, wall).inward());
+    (b, glass, water)
+}
+
+fn dielectric_furnace() -> Scene {
+    let (mut b, glass, water) = furnace_with_dielectrics();
     // Touching at (0.05, 0.25, -0.6).
     b.add_sphere(Sphere::new(Vec3::new(-0.1, 0.25, -0.6), 0.15, glass));
     b.add_sphere(Sphere::new(Vec3::new(0.2, 0.25, -0.6), 0.15, glass));
@@ -125,12 +132,7 @@ fn coincident_dielectric_faces_render_finite_values() {
     // describe: each dielectric is modelled against vacuum). A ray leaving through the shared
     // plane crosses one of the two faces, so the radiance scaling is not that of a real
     // water-glass interface; what must hold is that nothing becomes NaN or infinite.
-    let camera = Camera::new(Vec3::ZERO, Vec3::NEG_Z, Vec3::Y, 70.0, (8, 8)).unwrap();
-    let mut b = SceneBuilder::new(camera);
-    let wall = b.add_material(Material::new(Bsdf::diffuse(Vec3::splat(0.8)), Vec3::ONE));
-    let glass = b.add_material(Material::new(Bsdf::glass(1.5, Vec3::ONE), Vec3::ZERO));
-    let water = b.add_material(Material::new(Bsdf::glass(1.33, Vec3::ONE), Vec3::ZERO));
-    b.add_sphere(Sphere::new(Vec3::ZERO, 1.0, wall).inward());
+    let (mut b, glass, water) = furnace_with_dielectrics();
     add_block(&mut b, Vec3::new(0.0, -0.3, -0.6), 0.4, 0.4, glass);
     add_block(&mut b, Vec3::new(0.0, -0.3, -0.65), 0.3, 0.3, water);
     let scene = b.build().unwrap();

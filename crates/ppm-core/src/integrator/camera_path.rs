@@ -1,9 +1,12 @@
 //! What a camera path carries from vertex to vertex, and its BSDF-sampled continuation.
 
+use super::direct::emission_mis_weight;
 use super::shading::ShadingFrame;
+use super::LightStrategy;
 use crate::bsdf::{Bsdf, Lobe, TransportMode};
 use crate::geometry::{Hit, Ray};
 use crate::sampling::Rng;
+use crate::scene::Scene;
 use glam::Vec3;
 
 /// The throughput of a camera path and what MIS needs to know of its previous vertex.
@@ -28,6 +31,29 @@ impl CameraPath {
             prev_pdf: 0.0,
             prev_p: origin,
         }
+    }
+
+    /// The emitted radiance the path picks up at `hit` (seen along `wo`), before the
+    /// throughput: emission is one-sided (toward the geometric normal) and counts fully at the
+    /// camera and after a delta bounce; after a non-specular bounce it is weighted against
+    /// light sampling by `strategy` (the power heuristic for MIS, 0 when only light sampling
+    /// finds emitters, 1 when only BSDF sampling does).
+    #[inline]
+    pub fn emission(&self, scene: &Scene, hit: &Hit, wo: Vec3, strategy: LightStrategy) -> Vec3 {
+        let material = scene.material(hit);
+        if !material.is_emissive() || wo.dot(hit.ng) <= 0.0 {
+            return Vec3::ZERO;
+        }
+        let weight = if self.prev_specular {
+            1.0
+        } else {
+            match strategy {
+                LightStrategy::Mis => emission_mis_weight(scene, self.prev_p, self.prev_pdf, hit),
+                LightStrategy::LightOnly => 0.0,
+                LightStrategy::BsdfOnly => 1.0,
+            }
+        };
+        material.emission * weight
     }
 
     /// Continues the path at `hit` by sampling `bsdf` (radiance mode): throughput *= f |cos| /

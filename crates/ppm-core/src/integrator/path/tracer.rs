@@ -1,7 +1,7 @@
 //! The per-path kernel of the path tracer.
 
 use crate::geometry::Ray;
-use crate::integrator::direct::{emission_mis_weight, estimate_direct};
+use crate::integrator::direct::estimate_direct;
 use crate::integrator::shading::ShadingFrame;
 use crate::integrator::{CameraPath, LightStrategy, RenderSettings};
 use crate::sampling::Rng;
@@ -50,20 +50,7 @@ pub fn radiance(
         let material = scene.material(&hit);
         let wo = -ray.dir;
 
-        if material.is_emissive() && wo.dot(hit.ng) > 0.0 {
-            let weight = if path.prev_specular {
-                1.0
-            } else {
-                match strategy {
-                    LightStrategy::Mis => {
-                        emission_mis_weight(scene, path.prev_p, path.prev_pdf, &hit)
-                    }
-                    LightStrategy::LightOnly => 0.0,
-                    LightStrategy::BsdfOnly => 1.0,
-                }
-            };
-            l += path.throughput * material.emission * weight;
-        }
+        l += path.throughput * path.emission(scene, &hit, wo, strategy);
         if depth == settings.max_depth {
             break;
         }

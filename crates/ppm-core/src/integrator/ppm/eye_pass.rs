@@ -3,9 +3,9 @@
 
 use crate::bsdf::{Bsdf, Phong};
 use crate::geometry::Hit;
-use crate::integrator::direct::{emission_mis_weight, estimate_direct};
+use crate::integrator::direct::estimate_direct;
 use crate::integrator::shading::ShadingFrame;
-use crate::integrator::{CameraPath, DirectMode, RenderSettings};
+use crate::integrator::{CameraPath, DirectMode, LightStrategy, RenderSettings};
 use crate::photon::{HashGrid, Kernel};
 use crate::sampling::Rng;
 use crate::scene::Scene;
@@ -94,14 +94,7 @@ pub fn trace_eye_path(
         };
         let material = scene.material(&hit);
         let wo = -ray.dir;
-        if material.is_emissive() && wo.dot(hit.ng) > 0.0 {
-            let weight = if path.prev_specular {
-                1.0
-            } else {
-                emission_mis_weight(scene, path.prev_p, path.prev_pdf, &hit)
-            };
-            l += path.throughput * material.emission * weight;
-        }
+        l += path.throughput * path.emission(scene, &hit, wo, LightStrategy::Mis);
         if depth == settings.max_depth {
             break;
         }
