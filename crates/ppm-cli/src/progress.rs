@@ -116,6 +116,25 @@ impl Summary<'_> {
         }
         s
     }
+
+    /// Where the render time went: each pass's seconds and share, e.g.
+    /// `passes: photon 1.20 s (40%), grid 0.10 s (3%), eye 1.60 s (53%), film 0.10 s (3%)`.
+    /// Passes that took no time (the path tracer has no photon pass) are left out.
+    pub fn passes_line(&self) -> String {
+        let p = &self.totals.passes;
+        let total = p.total();
+        let parts: Vec<String> = [
+            ("photon", p.photon),
+            ("grid", p.grid),
+            ("eye", p.eye),
+            ("film", p.film),
+        ]
+        .iter()
+        .filter(|(_, t)| *t > 0.0)
+        .map(|(name, t)| format!("{name} {t:.2} s ({:.0}%)", 100.0 * t / total))
+        .collect();
+        format!("passes: {}", parts.join(", "))
+    }
 }
 
 /// A rate with an SI prefix: 1234567 -> "1.23 M".
@@ -136,6 +155,7 @@ fn mib(bytes: u64) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use ppm_core::integrator::PassTimes;
 
     #[test]
     fn vm_hwm_is_parsed_in_bytes() {
@@ -155,6 +175,12 @@ mod tests {
             shadow_rays: 1_000_000,
             light_paths: 500_000,
             photons: 900_000,
+            passes: PassTimes {
+                photon: 0.5,
+                grid: 0.1,
+                eye: 1.3,
+                film: 0.1,
+            },
             interrupted: false,
         };
         let summary = Summary {
@@ -170,6 +196,10 @@ mod tests {
             summary.line(),
             "64x48 ppm: 10 iterations in 2.00 s, 2.00 M rays/s, 250.00 k photons/s, 3 rejected samples, \
              render state 3.0 MiB, peak memory 100.0 MiB"
+        );
+        assert_eq!(
+            summary.passes_line(),
+            "passes: photon 0.50 s (25%), grid 0.10 s (5%), eye 1.30 s (65%), film 0.10 s (5%)"
         );
     }
 }

@@ -7,7 +7,7 @@ use crate::progress::{peak_rss_bytes, Progress, Summary};
 use crate::setup;
 use crate::signal::Interrupt;
 use anyhow::{Context, Result};
-use ppm_core::integrator::Renderer;
+use ppm_core::integrator::{PassTimes, Renderer};
 use ppm_core::scene::Scene;
 use std::path::Path;
 use std::time::{Duration, Instant};
@@ -38,6 +38,8 @@ pub struct LoopTotals {
     pub shadow_rays: u64,
     pub light_paths: u64,
     pub photons: u64,
+    /// Render time by pass.
+    pub passes: PassTimes,
     /// True if the loop stopped because of an interrupt.
     pub interrupted: bool,
 }
@@ -62,6 +64,7 @@ pub fn render_loop(
         totals.shadow_rays += stats.shadow_rays;
         totals.light_paths += stats.light_paths;
         totals.photons += stats.photons;
+        totals.passes.add(&stats.passes);
         let last = stop.done(totals.iterations, totals.seconds) || interrupt.requested();
         after(renderer, &totals, last)?;
     }
@@ -189,6 +192,7 @@ pub fn run(args: &RenderArgs, interrupt: &Interrupt) -> Result<Outcome> {
         peak_rss_bytes: peak_rss_bytes(),
     };
     eprintln!("{}", summary.line());
+    eprintln!("{}", summary.passes_line());
     if let Some((iteration, pixel)) = first_rejected {
         eprintln!(
             "first rejected sample: iteration {iteration} (0-based), pixel ({}, {}), seed {}",

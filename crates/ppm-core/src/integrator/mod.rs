@@ -37,6 +37,37 @@ pub struct IterationStats {
     pub radius: f32,
     /// Samples dropped as NaN or infinite.
     pub rejected: u64,
+    /// Wall-clock time of each pass.
+    pub passes: PassTimes,
+}
+
+/// Wall-clock seconds spent in each pass of an iteration (or summed over iterations), to show
+/// which pass dominates and how each one scales with threads.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PassTimes {
+    /// Light paths traced and photons stored (photon mapping).
+    pub photon: f64,
+    /// Hash grid built over the photons (photon mapping).
+    pub grid: f64,
+    /// Camera paths, with the photon gathers for photon mapping.
+    pub eye: f64,
+    /// Estimates added to the film.
+    pub film: f64,
+}
+
+impl PassTimes {
+    /// The sum of all passes.
+    pub fn total(&self) -> f64 {
+        self.photon + self.grid + self.eye + self.film
+    }
+
+    /// Pass-by-pass sum.
+    pub fn add(&mut self, other: &PassTimes) {
+        self.photon += other.photon;
+        self.grid += other.grid;
+        self.eye += other.eye;
+        self.film += other.film;
+    }
 }
 
 /// The render state of one of the integrators.

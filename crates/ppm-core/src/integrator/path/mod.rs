@@ -5,12 +5,13 @@
 
 mod tracer;
 
-use super::{IterationStats, RenderSettings};
+use super::{IterationStats, PassTimes, RenderSettings};
 use crate::film::Film;
 use crate::sampling::Rng;
 use crate::scene::Scene;
 use glam::{Vec2, Vec3};
 use rayon::prelude::*;
+use std::time::Instant;
 
 pub use tracer::PathCounters;
 
@@ -46,6 +47,7 @@ impl PathTracer {
         let iteration = self.film.iterations();
         let width = scene.camera.width as usize;
         let settings = &self.settings;
+        let clock = Instant::now();
         let counters = self
             .estimates
             .par_chunks_mut(width * TILE_ROWS)
@@ -63,12 +65,20 @@ impl PathTracer {
                 counters
             })
             .reduce(PathCounters::default, PathCounters::merge);
+        let eye = clock.elapsed().as_secs_f64();
+        let clock = Instant::now();
         let before = self.film.rejected();
         self.film.add_iteration(&self.estimates);
+        let passes = PassTimes {
+            eye,
+            film: clock.elapsed().as_secs_f64(),
+            ..Default::default()
+        };
         IterationStats {
             rays: counters.rays,
             shadow_rays: counters.shadow_rays,
             rejected: self.film.rejected() - before,
+            passes,
             ..Default::default()
         }
     }

@@ -15,7 +15,7 @@ pub use eye_pass::{density_estimate, GatherContext};
 pub use photon_pass::{stores_photons, trace_light_path, MAX_LIGHT_PATHS};
 pub use radius::RadiusSchedule;
 
-use super::{IterationStats, RenderSettings};
+use super::{IterationStats, PassTimes, RenderSettings};
 use crate::film::Film;
 use crate::photon::{HashGrid, Kernel, PhotonBuffer};
 use crate::scene::Scene;
@@ -23,6 +23,7 @@ use eye_pass::{trace_eye_path, EyeCounters};
 use glam::Vec3;
 use photon_pass::PhotonCounters;
 use rayon::prelude::*;
+use std::time::Instant;
 
 /// Light paths per parallel work item of the photon pass.
 const PATHS_PER_TASK: u32 = 512;
@@ -102,8 +103,14 @@ impl PpmRenderer {
     pub fn iterate(&mut self, scene: &Scene) -> IterationStats {
         let iteration = self.film.iterations();
         let radius = self.schedule.radius();
+        let mut passes = PassTimes::default();
+        let clock = Instant::now();
         let photon_counters = self.photon_pass(scene, iteration);
+        passes.photon = clock.elapsed().as_secs_f64();
+        let clock = Instant::now();
         self.grid.build(self.photons.as_slice(), radius);
+        passes.grid = clock.elapsed().as_secs_f64();
+        let clock = Instant::now();
 
         let ctx = GatherContext {
             grid: &self.grid,
@@ -137,9 +144,12 @@ impl PpmRenderer {
                 rays: a.rays + b.rays,
                 shadow_rays: a.shadow_rays + b.shadow_rays,
             });
+        passes.eye = clock.elapsed().as_secs_f64();
 
+        let clock = Instant::now();
         let before = self.film.rejected();
         self.film.add_iteration(&self.estimates);
+        passes.film = clock.elapsed().as_secs_f64();
         self.schedule.advance();
         IterationStats {
             rays: eye.rays + photon_counters.rays,
@@ -148,6 +158,7 @@ impl PpmRenderer {
             photons: photon_counters.photons,
             radius,
             rejected: self.film.rejected() - before,
+            passes,
         }
     }
 
