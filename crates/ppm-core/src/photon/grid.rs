@@ -5,6 +5,12 @@
 //! the photons by bucket into one flat array, so a bucket's photons are contiguous, and a
 //! query visits the buckets of the (usually 2 x 2 x 2) cells its sphere overlaps.
 //!
+//! The positions are also kept as three coordinate arrays in the same order: a query tests
+//! about five candidates for every photon inside its sphere (the cube of 2 x 2 cells on a
+//! surface has 16 r² of area, the disc pi r²), so the scan computes the distances of
+//! [`LANES`] candidates at once (the loop vectorises) into a bit mask and calls back only for
+//! the set bits, instead of one unpredictable branch per candidate.
+//!
 //! # Determinism
 //!
 //! Photons arrive in a scheduling-dependent order (see [`super::PhotonBuffer`]). After the
@@ -16,9 +22,13 @@
 use super::Photon;
 use glam::{IVec3, Vec3};
 use rayon::prelude::*;
+use std::ops::Range;
 
 /// Photon count below which a build step runs serially (parallel overhead dominates).
 const PARALLEL_MIN: usize = 1 << 14;
+
+/// Candidates whose distances the gather computes at once (see `HashGrid::scan`).
+const LANES: usize = 8;
 
 /// Cells a query dedupes through a stack array: 3 x 3 x 3 covers any radius up to the cell
 /// size (half the cell when the query radius equals the build radius, plus rounding slivers).
@@ -78,6 +88,11 @@ pub struct HashGrid {
     cell_size: f32,
     /// Photons grouped by bucket; within a bucket ordered by `Photon::order_key`.
     photons: Vec<Photon>,
+    /// `photons[i].position` by coordinate, for the scan of the candidates; [`LANES`] entries
+    /// of padding at the end so that a block read never runs out of bounds.
+    xs: Vec<f32>,
+    ys: Vec<f32>,
+    zs: Vec<f32>,
     /// Bucket `b` holds `photons[start[b]..start[b + 1]]`; `buckets + 1` entries.
     start: Vec<u32>,
     /// Scratch: the bucket of each input photon.
@@ -100,6 +115,9 @@ impl HashGrid {
             },
             cell_size: 1.0,
             photons: Vec::new(),
+            xs: Vec::new(),
+            ys: Vec::new(),
+            zs: Vec::new(),
             start: vec![0, 0],
             bucket_of: Vec::new(),
         }
@@ -171,6 +189,17 @@ impl HashGrid {
 
         // 3. Canonical order inside each bucket (see the module documentation).
         sort_buckets(&mut self.photons, &self.start);
+
+        // 4. The coordinates, for the candidate scan.
+        let n = self.photons.len();
+        for (axis, out) in [&mut self.xs, &mut self.ys, &mut self.zs]
+            .into_iter()
+            .enumerate()
+        {
+            out.clear();
+            out.extend(self.photons.iter().map(|p| p.position[axis]));
+            out.resize(n + LANES, f32::INFINITY);
+        }
     }
 
     /// Calls `f(photon, d²)` for every photon within distance `r` of `p` (`d² <= r²`),
@@ -186,20 +215,11 @@ impl HashGrid {
             return;
         };
 
-        let mut scan = |photons: &[Photon], cell: Option<IVec3>| {
-            for photon in photons {
-                let d2 = photon.position.distance_squared(p);
-                if d2 <= r2 && cell.is_none_or(|c| self.hash.cell(photon.position) == c) {
-                    f(photon, d2);
-                }
-            }
-        };
-
         if cells <= SMALL_QUERY as i64 {
-            self.for_each_distinct_bucket(lo, hi, |photons| scan(photons, None));
+            self.for_each_distinct_bucket(lo, hi, |range| self.scan(range, p, r2, &mut f));
         } else if cells >= self.hash.buckets as i64 {
             // The sphere covers more cells than there are buckets: scan every photon once.
-            scan(&self.photons, None);
+            self.scan(0..self.photons.len(), p, r2, &mut f);
         } else {
             // Many cells: instead of remembering buckets, accept a photon only when visiting
             // its own cell, which happens exactly once since cells are distinct.
@@ -207,39 +227,54 @@ impl HashGrid {
                 for y in lo.y..=hi.y {
                     for x in lo.x..=hi.x {
                         let c = IVec3::new(x, y, z);
-                        scan(self.bucket(self.hash.bucket(c)), Some(c));
+                        for photon in &self.photons[self.bucket(self.hash.bucket(c))] {
+                            let d2 = photon.position.distance_squared(p);
+                            if d2 <= r2 && self.hash.cell(photon.position) == c {
+                                f(photon, d2);
+                            }
+                        }
                     }
                 }
             }
         }
     }
 
-    /// Calls `f(photon, d²)` for every photon of the buckets that the gather sphere of radius
-    /// `r` around `p` touches, each at most once, **including photons farther than `r`**
-    /// (d² > r²): every photon within `r` is among them. For a kernel that vanishes outside
-    /// the radius the caller can then sum without a branch per photon, which is faster than
-    /// [`HashGrid::for_each_in_radius`] when many candidates fall outside the sphere.
-    #[inline]
-    pub fn for_each_candidate(&self, p: Vec3, r: f32, mut f: impl FnMut(&Photon, f32)) {
-        let Some((lo, hi, cells)) = self.cell_range(p, r) else {
-            return;
-        };
-        if cells > SMALL_QUERY as i64 {
-            // Rare (radius larger than the grid's cells): the exact query.
-            return self.for_each_in_radius(p, r, f);
-        }
-        self.for_each_distinct_bucket(lo, hi, |photons| {
-            for photon in photons {
-                f(photon, photon.position.distance_squared(p));
+    /// Calls `f(photon, d²)` for the photons of the stored `range` with `d² <= r2`, in order.
+    ///
+    /// Blocks of [`LANES`] candidates: the squared distances (computed as
+    /// `Vec3::distance_squared` does, so bit-identical to it) and a mask of those inside;
+    /// lanes past the end of the range are masked off (they read the padding or the next
+    /// bucket).
+    #[inline(always)]
+    fn scan(&self, range: Range<usize>, p: Vec3, r2: f32, f: &mut impl FnMut(&Photon, f32)) {
+        let mut i = range.start;
+        while i < range.end {
+            let xs: &[f32; LANES] = self.xs[i..i + LANES].try_into().unwrap();
+            let ys: &[f32; LANES] = self.ys[i..i + LANES].try_into().unwrap();
+            let zs: &[f32; LANES] = self.zs[i..i + LANES].try_into().unwrap();
+            let mut d2 = [0.0f32; LANES];
+            let mut inside = 0u32;
+            for k in 0..LANES {
+                let (dx, dy, dz) = (xs[k] - p.x, ys[k] - p.y, zs[k] - p.z);
+                d2[k] = dx * dx + dy * dy + dz * dz;
+                inside |= ((d2[k] <= r2) as u32) << k;
             }
-        });
+            let valid = (range.end - i).min(LANES);
+            inside &= ((1u64 << valid) - 1) as u32;
+            while inside != 0 {
+                let k = inside.trailing_zeros() as usize;
+                f(&self.photons[i + k], d2[k]);
+                inside &= inside - 1;
+            }
+            i += LANES;
+        }
     }
 
-    /// Calls `f` with the photons of each distinct bucket of the cells `lo..=hi` (at most
+    /// Calls `f` with the stored range of each distinct bucket of the cells `lo..=hi` (at most
     /// [`SMALL_QUERY`] cells): several cells may hash to one bucket, which is visited once;
     /// the few buckets seen are remembered in a stack array.
     #[inline]
-    fn for_each_distinct_bucket(&self, lo: IVec3, hi: IVec3, mut f: impl FnMut(&[Photon])) {
+    fn for_each_distinct_bucket(&self, lo: IVec3, hi: IVec3, mut f: impl FnMut(Range<usize>)) {
         let mut seen = [0usize; SMALL_QUERY];
         let mut n_seen = 0;
         for z in lo.z..=hi.z {
@@ -275,10 +310,10 @@ impl HashGrid {
         ))
     }
 
-    /// The photons of bucket `b`.
+    /// The stored range of bucket `b`.
     #[inline]
-    fn bucket(&self, b: usize) -> &[Photon] {
-        &self.photons[self.start[b] as usize..self.start[b + 1] as usize]
+    fn bucket(&self, b: usize) -> Range<usize> {
+        self.start[b] as usize..self.start[b + 1] as usize
     }
 
     /// All stored photons, grouped by bucket in the canonical order.
@@ -309,6 +344,8 @@ impl HashGrid {
     /// Bytes allocated by the grid.
     pub fn memory_bytes(&self) -> usize {
         self.photons.capacity() * std::mem::size_of::<Photon>()
+            + (self.xs.capacity() + self.ys.capacity() + self.zs.capacity())
+                * std::mem::size_of::<f32>()
             + (self.start.capacity() + self.bucket_of.capacity()) * std::mem::size_of::<u32>()
     }
 }

@@ -49,13 +49,6 @@ impl Kernel {
         self.r2
     }
 
-    /// The weight of a photon at squared distance `d2`, without a branch: zero at and beyond
-    /// the radius, where the linear form turns negative and is clamped.
-    #[inline]
-    pub fn weight_clamped(&self, d2: f32) -> f32 {
-        (self.norm - self.slope * d2).max(0.0)
-    }
-
     /// The weight of a photon at squared distance `d2`; zero outside the disc.
     #[inline]
     pub fn weight(&self, d2: f32) -> f32 {
