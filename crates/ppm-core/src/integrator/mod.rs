@@ -73,7 +73,8 @@ impl PassTimes {
 /// The render state of one of the integrators.
 pub enum Renderer {
     Path(PathTracer),
-    Ppm(PpmRenderer),
+    /// Boxed: its photon buffer and grid make it several times the path tracer's size.
+    Ppm(Box<PpmRenderer>),
 }
 
 impl Renderer {
@@ -81,7 +82,7 @@ impl Renderer {
     pub fn new(scene: &Scene, settings: &RenderSettings) -> Self {
         match settings.algorithm {
             Algorithm::Path => Renderer::Path(PathTracer::new(scene, settings.clone())),
-            Algorithm::Ppm => Renderer::Ppm(PpmRenderer::new(scene, settings.clone())),
+            Algorithm::Ppm => Renderer::Ppm(Box::new(PpmRenderer::new(scene, settings.clone()))),
         }
     }
 
