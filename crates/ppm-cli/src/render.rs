@@ -35,6 +35,8 @@ pub struct LoopTotals {
     /// Render time: the sum of the iterations' times, without the observer's work.
     pub seconds: f64,
     pub rays: u64,
+    /// Closest-hit rays of the photon pass (included in `rays`).
+    pub photon_rays: u64,
     pub shadow_rays: u64,
     pub light_paths: u64,
     pub photons: u64,
@@ -61,6 +63,7 @@ pub fn render_loop(
         totals.seconds += start.elapsed().as_secs_f64();
         totals.iterations += 1;
         totals.rays += stats.rays;
+        totals.photon_rays += stats.photon_rays;
         totals.shadow_rays += stats.shadow_rays;
         totals.light_paths += stats.light_paths;
         totals.photons += stats.photons;

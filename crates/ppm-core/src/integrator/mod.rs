@@ -28,6 +28,8 @@ use crate::scene::Scene;
 pub struct IterationStats {
     /// Closest-hit rays traced.
     pub rays: u64,
+    /// Those of them traced by the photon pass (photon mapping); the rest are camera paths'.
+    pub photon_rays: u64,
     /// Shadow (any-hit) rays traced.
     pub shadow_rays: u64,
     /// Light paths traced and photons stored (photon mapping).

@@ -153,6 +153,7 @@ impl PpmRenderer {
         self.schedule.advance();
         IterationStats {
             rays: eye.rays + photon_counters.rays,
+            photon_rays: photon_counters.rays,
             shadow_rays: eye.shadow_rays,
             light_paths: self.settings.photons as u64,
             photons: photon_counters.photons,
