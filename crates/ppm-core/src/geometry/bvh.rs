@@ -463,7 +463,7 @@ impl Geometry {
             }
         } else {
             let s = &self.spheres[(prim - n_tri) as usize];
-            let (p, ng, uv) = s.surface(ray.at(t));
+            let (p, ng) = s.surface(ray.at(t));
             Hit {
                 t,
                 p,

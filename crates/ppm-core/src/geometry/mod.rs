@@ -29,7 +29,7 @@ pub struct Hit {
     pub ng: Vec3,
     /// Unit shading normal (interpolated vertex normal, or `ng`), on the same side as `ng`.
     pub ns: Vec3,
-    /// Barycentric (triangles) or (u, v) parameters (spheres) of the hit.
+    /// Barycentric coordinates (b1, b2) of a triangle hit; zero on spheres.
     pub uv: Vec2,
     /// Material index into the scene's material list.
     pub material: u32,
