@@ -1,9 +1,9 @@
 //! Throughput on the four shipped scenes at their full resolution: closest-hit and shadow rays,
-//! photon tracing, hash-grid build and the photon gather (density estimates on the water
-//! scene's real photon map at the eye pass's gather points).
+//! photon tracing, hash-grid build and the photon gather (density estimates on the water and
+//! specular scenes' real photon maps at the eye pass's gather points).
 //!
 //! `cargo bench -p ppm-benches` (add `-- gather` etc. to filter). Single-threaded: these are
-//! kernel throughputs; the parallel scaling is measured by the CLI (`--threads 1` vs `2`).
+//! kernel throughputs; the parallel scaling is measured by `scripts/scaling.py`.
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use ppm_benches::{camera_rays, gather_points, photons, shadow_rays};
@@ -73,44 +73,51 @@ fn photon_tracing(c: &mut Criterion) {
     }
 }
 
+/// Grid build and gather on one iteration's real photon map: the water scene at its 200,000
+/// light paths, and the specular scene at the 262,144 of the speed bar.
 fn photon_map(c: &mut Criterion) {
-    let scene = load("cornell_box_water.yml");
-    let settings = RenderSettings::new(&scene);
-    let photons = photons(&scene, &settings, 200_000);
-    let points = gather_points(&scene, 50_000);
-    let mut g = config(c, "photon_map_water");
-    g.throughput(Throughput::Elements(photons.len() as u64));
-    let mut grid = HashGrid::new();
-    g.bench_function("grid_build", |b| {
-        b.iter(|| grid.build(black_box(&photons), settings.radius))
-    });
-    for radius in [settings.radius, settings.radius * 0.5] {
-        grid.build(&photons, radius);
-        let ctx = GatherContext {
-            grid: &grid,
-            kernel: Kernel::new(radius),
-            radius,
-            inv_paths: 1.0 / 200_000.0,
-        };
-        g.throughput(Throughput::Elements(points.len() as u64));
-        g.bench_with_input(
-            BenchmarkId::new("gather", format!("r={radius}")),
-            &points,
-            |b, points| {
-                b.iter(|| {
-                    let mut sum = Vec3::ZERO;
-                    for (hit, wo) in points {
-                        let albedo = match scene.material(hit).bsdf {
-                            Bsdf::Diffuse(d) => d.albedo,
-                            Bsdf::Phong(p) => p.diffuse,
-                            _ => unreachable!("gather points store photons"),
-                        };
-                        sum += density_estimate(&ctx, hit, *wo, albedo);
-                    }
-                    sum
-                })
-            },
-        );
+    for (group, name, paths) in [
+        ("photon_map_water", "cornell_box_water.yml", 200_000),
+        ("photon_map_specular", "cornell_box_specular.yml", 262_144),
+    ] {
+        let scene = load(name);
+        let settings = RenderSettings::new(&scene);
+        let photons = photons(&scene, &settings, paths);
+        let points = gather_points(&scene, 50_000);
+        let mut g = config(c, group);
+        g.throughput(Throughput::Elements(photons.len() as u64));
+        let mut grid = HashGrid::new();
+        g.bench_function("grid_build", |b| {
+            b.iter(|| grid.build(black_box(&photons), settings.radius))
+        });
+        for radius in [settings.radius, settings.radius * 0.5] {
+            grid.build(&photons, radius);
+            let ctx = GatherContext {
+                grid: &grid,
+                kernel: Kernel::new(radius),
+                radius,
+                inv_paths: 1.0 / paths as f32,
+            };
+            g.throughput(Throughput::Elements(points.len() as u64));
+            g.bench_with_input(
+                BenchmarkId::new("gather", format!("r={radius}")),
+                &points,
+                |b, points| {
+                    b.iter(|| {
+                        let mut sum = Vec3::ZERO;
+                        for (hit, wo) in points {
+                            let albedo = match scene.material(hit).bsdf {
+                                Bsdf::Diffuse(d) => d.albedo,
+                                Bsdf::Phong(p) => p.diffuse,
+                                _ => unreachable!("gather points store photons"),
+                            };
+                            sum += density_estimate(&ctx, hit, *wo, albedo);
+                        }
+                        sum
+                    })
+                },
+            );
+        }
     }
 }
 
