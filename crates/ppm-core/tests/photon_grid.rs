@@ -1,7 +1,7 @@
 //! The photon hash grid against a brute-force scan, its order determinism, and the kernel's
 //! normalisation in an irradiance estimate.
 
-use ppm_core::photon::{epanechnikov, HashGrid, Kernel, Photon};
+use ppm_core::photon::{epanechnikov, FluxRecord, HashGrid, Kernel, Photon};
 use ppm_core::sampling::Rng;
 use ppm_core::{Vec2, Vec3};
 
@@ -71,6 +71,41 @@ fn random_queries_match_brute_force() {
             .collect();
         let found = assert_matches(&grid, &photons, &queries);
         assert!(found > 200, "only {found} photons found");
+    }
+}
+
+#[test]
+fn flux_query_hands_out_the_same_photons_in_the_same_order() {
+    // Distinct flux and incoming direction per photon, so a wrong index shows.
+    let mut rng = Rng::new(7, 0, 0);
+    let (lo, hi) = (Vec3::splat(-1.0), Vec3::splat(1.0));
+    let photons: Vec<_> = (0..5000)
+        .map(|i| {
+            let wi = (random_in_box(&mut rng, lo, hi) + Vec3::splat(1e-3)).normalize();
+            let flux = Vec3::new(i as f32, rng.uniform(), 1.0);
+            Photon::new(random_in_box(&mut rng, lo, hi), wi, flux, i)
+        })
+        .collect();
+    let mut grid = HashGrid::new();
+    for (build_radius, buckets) in [(0.1, 5000), (0.1, 16)] {
+        grid.build_with_buckets(&photons, build_radius, buckets);
+        let mut compared = 0;
+        for _ in 0..300 {
+            let p = random_in_box(&mut rng, lo, hi);
+            let r = 2.5 * build_radius * rng.uniform();
+            let n = (random_in_box(&mut rng, lo, hi) + Vec3::splat(1e-3)).normalize();
+            let mut whole = Vec::new();
+            grid.for_each_in_radius(p, r, |photon, d2| {
+                whole.push((FluxRecord::from(photon), d2, photon.arrived_from(n)))
+            });
+            let mut fluxes = Vec::new();
+            grid.for_each_flux_in_radius(p, r, |record, d2| {
+                fluxes.push((*record, d2, record.arrived_from(n)))
+            });
+            assert_eq!(whole, fluxes, "query at {p}, r = {r}");
+            compared += whole.len();
+        }
+        assert!(compared > 1000, "only {compared} photons compared");
     }
 }
 

@@ -19,7 +19,7 @@
 //! stored order depends only on the set of photons, and so does the order in which a query
 //! calls its closure: gathers sum in the same order at any thread count.
 
-use super::Photon;
+use super::{FluxRecord, Photon};
 use glam::{IVec3, Vec3};
 use rayon::prelude::*;
 use std::ops::Range;
@@ -93,6 +93,8 @@ pub struct HashGrid {
     xs: Vec<f32>,
     ys: Vec<f32>,
     zs: Vec<f32>,
+    /// `photons[i]`'s flux and incoming side, for the density estimate.
+    fluxes: Vec<FluxRecord>,
     /// Bucket `b` holds `photons[start[b]..start[b + 1]]`; `buckets + 1` entries.
     start: Vec<u32>,
     /// Scratch: the bucket of each input photon.
@@ -118,6 +120,7 @@ impl HashGrid {
             xs: Vec::new(),
             ys: Vec::new(),
             zs: Vec::new(),
+            fluxes: Vec::new(),
             start: vec![0, 0],
             bucket_of: Vec::new(),
         }
@@ -190,15 +193,22 @@ impl HashGrid {
         // 3. Canonical order inside each bucket (see the module documentation).
         sort_buckets(&mut self.photons, &self.start);
 
-        // 4. The coordinates, for the candidate scan.
+        // 4. The coordinates for the candidate scan (padded) and the flux records, in one pass.
         let n = self.photons.len();
-        for (axis, out) in [&mut self.xs, &mut self.ys, &mut self.zs]
-            .into_iter()
-            .enumerate()
-        {
-            out.clear();
-            out.extend(self.photons.iter().map(|p| p.position[axis]));
-            out.resize(n + LANES, f32::INFINITY);
+        for v in [&mut self.xs, &mut self.ys, &mut self.zs] {
+            v.clear();
+            v.reserve(n + LANES);
+        }
+        self.fluxes.clear();
+        self.fluxes.reserve(n);
+        for photon in &self.photons {
+            self.xs.push(photon.position.x);
+            self.ys.push(photon.position.y);
+            self.zs.push(photon.position.z);
+            self.fluxes.push(FluxRecord::from(photon));
+        }
+        for v in [&mut self.xs, &mut self.ys, &mut self.zs] {
+            v.resize(n + LANES, f32::INFINITY);
         }
     }
 
@@ -210,6 +220,20 @@ impl HashGrid {
     /// share it. `r` may exceed the build radius (more cells are visited). Allocates nothing.
     #[inline]
     pub fn for_each_in_radius(&self, p: Vec3, r: f32, mut f: impl FnMut(&Photon, f32)) {
+        self.query(p, r, |i, d2| f(&self.photons[i], d2));
+    }
+
+    /// [`HashGrid::for_each_in_radius`] handing out only what a density estimate reads, the
+    /// flux and the incoming side ([`FluxRecord`]): 16-byte records, four to a cache line,
+    /// so the photons found cost half the memory traffic of whole records.
+    #[inline]
+    pub fn for_each_flux_in_radius(&self, p: Vec3, r: f32, mut f: impl FnMut(&FluxRecord, f32)) {
+        self.query(p, r, |i, d2| f(&self.fluxes[i], d2));
+    }
+
+    /// Calls `f(i, d²)` for the stored index `i` of every photon within `r` of `p`.
+    #[inline(always)]
+    fn query(&self, p: Vec3, r: f32, mut f: impl FnMut(usize, f32)) {
         let r2 = r * r;
         let Some((lo, hi, cells)) = self.cell_range(p, r) else {
             return;
@@ -227,10 +251,11 @@ impl HashGrid {
                 for y in lo.y..=hi.y {
                     for x in lo.x..=hi.x {
                         let c = IVec3::new(x, y, z);
-                        for photon in &self.photons[self.bucket(self.hash.bucket(c))] {
-                            let d2 = photon.position.distance_squared(p);
-                            if d2 <= r2 && self.hash.cell(photon.position) == c {
-                                f(photon, d2);
+                        for i in self.bucket(self.hash.bucket(c)) {
+                            let position = self.photons[i].position;
+                            let d2 = position.distance_squared(p);
+                            if d2 <= r2 && self.hash.cell(position) == c {
+                                f(i, d2);
                             }
                         }
                     }
@@ -239,14 +264,14 @@ impl HashGrid {
         }
     }
 
-    /// Calls `f(photon, d²)` for the photons of the stored `range` with `d² <= r2`, in order.
+    /// Calls `f(i, d²)` for the photons `i` of the stored `range` with `d² <= r2`, in order.
     ///
     /// Blocks of [`LANES`] candidates: the squared distances (computed as
     /// `Vec3::distance_squared` does, so bit-identical to it) and a mask of those inside;
     /// lanes past the end of the range are masked off (they read the padding or the next
     /// bucket).
     #[inline(always)]
-    fn scan(&self, range: Range<usize>, p: Vec3, r2: f32, f: &mut impl FnMut(&Photon, f32)) {
+    fn scan(&self, range: Range<usize>, p: Vec3, r2: f32, f: &mut impl FnMut(usize, f32)) {
         let mut i = range.start;
         while i < range.end {
             let xs: &[f32; LANES] = self.xs[i..i + LANES].try_into().unwrap();
@@ -263,7 +288,7 @@ impl HashGrid {
             inside &= ((1u64 << valid) - 1) as u32;
             while inside != 0 {
                 let k = inside.trailing_zeros() as usize;
-                f(&self.photons[i + k], d2[k]);
+                f(i + k, d2[k]);
                 inside &= inside - 1;
             }
             i += LANES;
@@ -346,6 +371,7 @@ impl HashGrid {
         self.photons.capacity() * std::mem::size_of::<Photon>()
             + (self.xs.capacity() + self.ys.capacity() + self.zs.capacity())
                 * std::mem::size_of::<f32>()
+            + self.fluxes.capacity() * std::mem::size_of::<FluxRecord>()
             + (self.start.capacity() + self.bucket_of.capacity()) * std::mem::size_of::<u32>()
     }
 }

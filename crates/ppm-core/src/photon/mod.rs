@@ -17,4 +17,4 @@ mod record;
 pub use buffer::{PhotonBuffer, PhotonWriter, BATCH};
 pub use grid::HashGrid;
 pub use kernel::{epanechnikov, Kernel};
-pub use record::Photon;
+pub use record::{FluxRecord, Photon};

@@ -96,6 +96,38 @@ impl Photon {
     }
 }
 
+/// What a density estimate reads of a photon inside the gather disc: its flux and the side
+/// it arrived from. 16 bytes, four to a cache line (see [`super::HashGrid::for_each_flux_in_radius`]).
+#[repr(C, align(16))]
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FluxRecord {
+    /// Flux Φ carried by the photon (RGB, watts).
+    pub flux: Vec3,
+    /// Incoming direction, octahedral-encoded as in [`Photon`].
+    wi: [i16; 2],
+}
+
+const _: () = assert!(std::mem::size_of::<FluxRecord>() == 16);
+
+impl From<&Photon> for FluxRecord {
+    #[inline]
+    fn from(photon: &Photon) -> Self {
+        FluxRecord {
+            flux: photon.flux,
+            wi: photon.wi,
+        }
+    }
+}
+
+impl FluxRecord {
+    /// True if the photon arrived from the side of the surface that `n` points to, exactly
+    /// as [`Photon::arrived_from`].
+    #[inline]
+    pub fn arrived_from(&self, n: Vec3) -> bool {
+        oct_unfold(self.wi).dot(n) > 0.0
+    }
+}
+
 /// ±1 with the sign of `x` (+1 for ±0), so that the fold below never multiplies by zero.
 #[inline]
 fn sign_not_zero(x: f32) -> f32 {

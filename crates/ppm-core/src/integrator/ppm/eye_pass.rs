@@ -50,7 +50,7 @@ pub fn density_estimate(ctx: &GatherContext<'_>, hit: &Hit, wo: Vec3, albedo: Ve
     };
     let mut sum = Vec3::ZERO;
     ctx.grid
-        .for_each_in_radius(hit.p, ctx.radius, |photon, d2| {
+        .for_each_flux_in_radius(hit.p, ctx.radius, |photon, d2| {
             if photon.arrived_from(n_view) {
                 sum += photon.flux * ctx.kernel.weight(d2);
             }
