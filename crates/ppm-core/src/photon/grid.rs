@@ -193,23 +193,29 @@ impl HashGrid {
         // 3. Canonical order inside each bucket (see the module documentation).
         sort_buckets(&mut self.photons, &self.start);
 
-        // 4. The coordinates for the candidate scan (padded) and the flux records, in one pass.
+        // 4. The coordinates for the candidate scan (padded) and the flux records.
         let n = self.photons.len();
-        for v in [&mut self.xs, &mut self.ys, &mut self.zs] {
+        let photons = &self.photons;
+        let coordinate = |v: &mut Vec<f32>, axis: usize| {
             v.clear();
-            v.reserve(n + LANES);
-        }
-        self.fluxes.clear();
-        self.fluxes.reserve(n);
-        for photon in &self.photons {
-            self.xs.push(photon.position.x);
-            self.ys.push(photon.position.y);
-            self.zs.push(photon.position.z);
-            self.fluxes.push(FluxRecord::from(photon));
-        }
-        for v in [&mut self.xs, &mut self.ys, &mut self.zs] {
+            v.par_extend(
+                photons
+                    .par_iter()
+                    .with_min_len(PARALLEL_MIN)
+                    .map(|p| p.position[axis]),
+            );
             v.resize(n + LANES, f32::INFINITY);
-        }
+        };
+        coordinate(&mut self.xs, 0);
+        coordinate(&mut self.ys, 1);
+        coordinate(&mut self.zs, 2);
+        self.fluxes.clear();
+        self.fluxes.par_extend(
+            photons
+                .par_iter()
+                .with_min_len(PARALLEL_MIN)
+                .map(FluxRecord::from),
+        );
     }
 
     /// Calls `f(photon, d²)` for every photon within distance `r` of `p` (`d² <= r²`),
