@@ -82,51 +82,24 @@ fn same_seed_gives_the_same_image_on_any_thread_count() {
     let dir = tempfile::tempdir().unwrap();
     tiny_scene(dir.path());
     for algorithm in ["pt", "ppm"] {
-        render(
-            dir.path(),
-            &[
+        let render_with = |seed: &str, threads: &str, out: &str| {
+            let args = [
                 "-a",
                 algorithm,
                 "-n",
                 "3",
                 "--seed",
-                "5",
+                seed,
                 "--threads",
-                "1",
+                threads,
                 "-o",
-                "one",
-            ],
-        );
-        render(
-            dir.path(),
-            &[
-                "-a",
-                algorithm,
-                "-n",
-                "3",
-                "--seed",
-                "5",
-                "--threads",
-                "2",
-                "-o",
-                "two",
-            ],
-        );
-        render(
-            dir.path(),
-            &[
-                "-a",
-                algorithm,
-                "-n",
-                "3",
-                "--seed",
-                "6",
-                "--threads",
-                "2",
-                "-o",
-                "other",
-            ],
-        );
+                out,
+            ];
+            render(dir.path(), &args)
+        };
+        render_with("5", "1", "one");
+        render_with("5", "2", "two");
+        render_with("6", "2", "other");
         let one = read_exr(&dir.path().join("one.exr")).2;
         assert_eq!(one, read_exr(&dir.path().join("two.exr")).2, "{algorithm}");
         assert_ne!(

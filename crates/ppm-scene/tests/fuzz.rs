@@ -7,6 +7,7 @@ mod common;
 use common::{scenes_dir, write_files};
 use glam::Vec3;
 use ppm_core::bsdf::Bsdf;
+use ppm_core::geometry::TriangleMesh;
 use ppm_core::material::Material;
 use ppm_core::scene::SceneBuilder;
 use ppm_scene::mtl::{mtl_to_material, parse_mtl};
@@ -49,6 +50,25 @@ fn check_material(m: &Material) {
     }
 }
 
+/// A mesh's normals are unit length or absent, and its triangles name existing materials and
+/// existing, finite vertices.
+fn check_mesh(mesh: &TriangleMesh, n_materials: u32) {
+    assert!(mesh.normals.is_empty() || mesh.normals.len() == mesh.positions.len());
+    assert!(mesh
+        .normals
+        .iter()
+        .all(|n| n.is_finite() && (n.length() - 1.0).abs() < 1e-3));
+    for (t, &m) in mesh.indices.iter().zip(&mesh.materials) {
+        assert!(m < n_materials);
+        for &i in t {
+            assert!(mesh
+                .positions
+                .get(i as usize)
+                .is_some_and(|p| p.is_finite()));
+        }
+    }
+}
+
 /// Everything a loaded scene hands to the core is finite and in range.
 fn check_builder(b: &SceneBuilder) {
     let n_materials = b.materials.len() as u32;
@@ -56,20 +76,7 @@ fn check_builder(b: &SceneBuilder) {
     assert!(b.camera.width >= 1 && b.camera.height >= 1);
     for mesh in &b.meshes {
         assert_eq!(mesh.indices.len(), mesh.materials.len());
-        assert!(mesh.normals.is_empty() || mesh.normals.len() == mesh.positions.len());
-        assert!(mesh
-            .normals
-            .iter()
-            .all(|n| n.is_finite() && (n.length() - 1.0).abs() < 1e-3));
-        for (t, &m) in mesh.indices.iter().zip(&mesh.materials) {
-            assert!(m < n_materials);
-            for &i in t {
-                assert!(mesh
-                    .positions
-                    .get(i as usize)
-                    .is_some_and(|p| p.is_finite()));
-            }
-        }
+        check_mesh(mesh, n_materials);
     }
     for s in &b.spheres {
         assert!(
@@ -453,16 +460,10 @@ fn load_obj_text(text: &str) {
         Ok(data) => {
             data.materials.iter().for_each(check_material);
             for mesh in &data.meshes {
-                assert!(mesh.normals.is_empty() || mesh.normals.len() == mesh.positions.len());
-                assert!(mesh
-                    .normals
-                    .iter()
-                    .all(|n| n.is_finite() && (n.length() - 1.0).abs() < 1e-3));
-                for (t, &m) in mesh.indices.iter().zip(&mesh.materials) {
-                    assert!((m as usize) < data.materials.len());
-                    let p = t.map(|i| mesh.positions[i as usize]);
-                    assert!(p.iter().all(|p| p.is_finite()));
+                check_mesh(mesh, data.materials.len() as u32);
+                for t in &mesh.indices {
                     // No degenerate triangle survives.
+                    let p = t.map(|i| mesh.positions[i as usize]);
                     assert!((p[1] - p[0]).cross(p[2] - p[0]).length() > 0.0);
                 }
             }
