@@ -57,6 +57,23 @@ pub struct PassTimes {
     pub film: f64,
 }
 
+/// Seconds between consecutive laps, for [`PassTimes`].
+pub(crate) struct Stopwatch(std::time::Instant);
+
+impl Stopwatch {
+    pub(crate) fn start() -> Self {
+        Stopwatch(std::time::Instant::now())
+    }
+
+    /// Seconds since the start or the previous lap; starts the next lap.
+    pub(crate) fn lap(&mut self) -> f64 {
+        let now = std::time::Instant::now();
+        let seconds = (now - self.0).as_secs_f64();
+        self.0 = now;
+        seconds
+    }
+}
+
 impl PassTimes {
     /// The sum of all passes.
     pub fn total(&self) -> f64 {

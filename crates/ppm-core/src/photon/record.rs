@@ -71,7 +71,7 @@ impl Photon {
     /// (`wi . n > 0`). Cheaper than [`Photon::wi`]: the sign needs no normalisation.
     #[inline]
     pub fn arrived_from(&self, n: Vec3) -> bool {
-        oct_unfold(self.wi).dot(n) > 0.0
+        FluxRecord::from(self).arrived_from(n)
     }
 
     /// A total order key: the path index first, then every other bit of the record.

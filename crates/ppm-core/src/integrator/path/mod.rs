@@ -5,13 +5,12 @@
 
 mod tracer;
 
-use super::{IterationStats, PassTimes, RenderSettings};
+use super::{IterationStats, PassTimes, RenderSettings, Stopwatch};
 use crate::film::Film;
 use crate::sampling::Rng;
 use crate::scene::Scene;
 use glam::{Vec2, Vec3};
 use rayon::prelude::*;
-use std::time::Instant;
 
 pub use tracer::PathCounters;
 
@@ -47,7 +46,7 @@ impl PathTracer {
         let iteration = self.film.iterations();
         let width = scene.camera.width as usize;
         let settings = &self.settings;
-        let clock = Instant::now();
+        let mut clock = Stopwatch::start();
         let counters = self
             .estimates
             .par_chunks_mut(width * TILE_ROWS)
@@ -65,13 +64,12 @@ impl PathTracer {
                 counters
             })
             .reduce(PathCounters::default, PathCounters::merge);
-        let eye = clock.elapsed().as_secs_f64();
-        let clock = Instant::now();
+        let eye = clock.lap();
         let before = self.film.rejected();
         self.film.add_iteration(&self.estimates);
         let passes = PassTimes {
             eye,
-            film: clock.elapsed().as_secs_f64(),
+            film: clock.lap(),
             ..Default::default()
         };
         IterationStats {

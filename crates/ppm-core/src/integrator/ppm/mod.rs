@@ -15,7 +15,7 @@ pub use eye_pass::{density_estimate, GatherContext};
 pub use photon_pass::{stores_photons, trace_light_path, MAX_LIGHT_PATHS};
 pub use radius::RadiusSchedule;
 
-use super::{IterationStats, PassTimes, RenderSettings};
+use super::{IterationStats, PassTimes, RenderSettings, Stopwatch};
 use crate::film::Film;
 use crate::photon::{HashGrid, Kernel, PhotonBuffer};
 use crate::scene::Scene;
@@ -23,7 +23,6 @@ use eye_pass::{trace_eye_path, EyeCounters};
 use glam::Vec3;
 use photon_pass::PhotonCounters;
 use rayon::prelude::*;
-use std::time::Instant;
 
 /// Light paths per parallel work item of the photon pass.
 const PATHS_PER_TASK: u32 = 512;
@@ -104,13 +103,11 @@ impl PpmRenderer {
         let iteration = self.film.iterations();
         let radius = self.schedule.radius();
         let mut passes = PassTimes::default();
-        let clock = Instant::now();
+        let mut clock = Stopwatch::start();
         let photon_counters = self.photon_pass(scene, iteration);
-        passes.photon = clock.elapsed().as_secs_f64();
-        let clock = Instant::now();
+        passes.photon = clock.lap();
         self.grid.build(self.photons.as_slice(), radius);
-        passes.grid = clock.elapsed().as_secs_f64();
-        let clock = Instant::now();
+        passes.grid = clock.lap();
 
         let ctx = GatherContext {
             grid: &self.grid,
@@ -144,12 +141,11 @@ impl PpmRenderer {
                 rays: a.rays + b.rays,
                 shadow_rays: a.shadow_rays + b.shadow_rays,
             });
-        passes.eye = clock.elapsed().as_secs_f64();
+        passes.eye = clock.lap();
 
-        let clock = Instant::now();
         let before = self.film.rejected();
         self.film.add_iteration(&self.estimates);
-        passes.film = clock.elapsed().as_secs_f64();
+        passes.film = clock.lap();
         self.schedule.advance();
         IterationStats {
             rays: eye.rays + photon_counters.rays,
