@@ -211,8 +211,12 @@ impl Geometry {
         let (nodes, order) = if aabbs.is_empty() {
             (Vec::new(), Vec::new())
         } else {
+            // At most 2 primitives per leaf. Callgrind, one iteration (photons, then eye
+            // paths) of the specular, water and diffuse boxes: 593 M, 1194 M, 407 M
+            // instructions in all, against 672 M, 1223 M, 422 M with 4 and 611 M, 1229 M,
+            // 424 M with 1. The box walls span the scene, so bigger leaves cull nothing.
             let params = BvhBuildParams {
-                max_prims_per_leaf: 4,
+                max_prims_per_leaf: 2,
                 ..BvhBuildParams::medium_build()
             };
             let bvh: Bvh2 =
