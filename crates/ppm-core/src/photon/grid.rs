@@ -3,7 +3,8 @@
 //! Space is cut into cubic cells of side `2 r` (the gather diameter) and each cell is hashed
 //! into one of about as many buckets as there are photons. [`HashGrid::build`] counting-sorts
 //! the photons by bucket into one flat array, so a bucket's photons are contiguous, and a
-//! query visits the buckets of the (usually 2 x 2 x 2) cells its sphere overlaps.
+//! query visits the buckets of the (usually 2 x 2 x 2) cells its sphere overlaps. Cells that
+//! follow each other along x take consecutive buckets, so those 8 cells are 4 runs of memory.
 //!
 //! The positions are also kept as three coordinate arrays in the same order: a query tests
 //! about five candidates for every photon inside its sphere (the cube of 2 x 2 cells on a
@@ -50,23 +51,28 @@ impl CellHash {
         IVec3::new(floor_i32(q.x), floor_i32(q.y), floor_i32(q.z))
     }
 
-    /// The bucket of cell `c`: a linear combination of the coordinates with large odd 64-bit
-    /// constants (injective on any realistic block of cells), the SplitMix64 finaliser (full
-    /// avalanche), then the top 32 bits mapped onto `0..buckets` by a multiply-shift.
+    /// The bucket of cell `c`: the row of cells along x through `c` starts at a hashed
+    /// bucket, and the row's cells take the buckets after it (modulo the table size), so
+    /// neighbours along x are neighbours in memory and a query reads a 2 x 2 x 2 block of
+    /// cells as 4 runs instead of 8 scattered buckets ([`HashGrid::for_each_distinct_bucket`]).
     ///
+    /// The row's bucket: a linear combination of (y, z) with large odd 64-bit constants
+    /// (injective on any realistic block of cells), the SplitMix64 finaliser (full
+    /// avalanche), then the top 32 bits mapped onto `0..buckets` by a multiply-shift.
     /// The classic `x p1 ^ y p2 ^ z p3` (Teschner et al. 2003) is avoided: with sign-extended
     /// negative coordinates the xor collides often (a 16³ block around the origin has only
     /// 2518 distinct values out of 4096).
     #[inline]
     fn bucket(&self, c: IVec3) -> usize {
-        let mut h = (c.x as u64)
-            .wrapping_mul(0x9e37_79b9_7f4a_7c15)
-            .wrapping_add((c.y as u64).wrapping_mul(0xc2b2_ae3d_27d4_eb4f))
+        let mut h = (c.y as u64)
+            .wrapping_mul(0xc2b2_ae3d_27d4_eb4f)
             .wrapping_add((c.z as u64).wrapping_mul(0x1656_67b1_9e37_79f9));
         h = (h ^ (h >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
         h = (h ^ (h >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
         h ^= h >> 31;
-        (((h >> 32) * self.buckets as u64) >> 32) as usize
+        let row = ((h >> 32) * self.buckets as u64) >> 32;
+        // `buckets` is a power of two: the mask is the modulo, also for negative x.
+        (row as u32).wrapping_add(c.x as u32) as usize & (self.buckets as usize - 1)
     }
 }
 
@@ -295,22 +301,44 @@ impl HashGrid {
         }
     }
 
-    /// Calls `f` with the stored range of each distinct bucket of the cells `lo..=hi` (at most
-    /// [`SMALL_QUERY`] cells): several cells may hash to one bucket, which is visited once;
-    /// the few buckets seen are remembered in a stack array.
+    /// Calls `f` with the stored ranges of the distinct buckets of the cells `lo..=hi` (at
+    /// most [`SMALL_QUERY`] cells), in the order of the cells: several cells may hash to one
+    /// bucket, which is visited once (the few buckets seen are remembered in a stack array).
+    ///
+    /// Along x the cells of a row are consecutive buckets ([`CellHash::bucket`]), and
+    /// consecutive buckets are consecutive in the photon array, so a run of new buckets is
+    /// handed out as one range: the photons are the same, in the same order, with fewer
+    /// bucket lookups and partial blocks.
     #[inline]
     fn for_each_distinct_bucket(&self, lo: IVec3, hi: IVec3, mut f: impl FnMut(Range<usize>)) {
         let mut seen = [0usize; SMALL_QUERY];
         let mut n_seen = 0;
+        let mask = self.hash.buckets as usize - 1;
         for z in lo.z..=hi.z {
             for y in lo.y..=hi.y {
-                for x in lo.x..=hi.x {
-                    let b = self.hash.bucket(IVec3::new(x, y, z));
-                    if !seen[..n_seen].contains(&b) {
+                let first = self.hash.bucket(IVec3::new(lo.x, y, z));
+                // The pending run of new buckets, [run_start, run_end).
+                let mut run: Option<(usize, usize)> = None;
+                for dx in 0..=(hi.x - lo.x) as usize {
+                    let b = (first + dx) & mask;
+                    let new = !seen[..n_seen].contains(&b);
+                    if new {
                         seen[n_seen] = b;
                         n_seen += 1;
-                        f(self.bucket(b));
                     }
+                    run = match run {
+                        // b == end also excludes the wrap from the last bucket to bucket 0.
+                        Some((start, end)) if new && b == end => Some((start, b + 1)),
+                        pending => {
+                            if let Some((start, end)) = pending {
+                                f(self.start[start] as usize..self.start[end] as usize);
+                            }
+                            new.then_some((b, b + 1))
+                        }
+                    };
+                }
+                if let Some((start, end)) = run {
+                    f(self.start[start] as usize..self.start[end] as usize);
                 }
             }
         }
@@ -601,6 +629,23 @@ mod tests {
             // The candidate at p is in, padding and NaN are out, the one on the radius is in.
             assert_eq!(mask & 0b1110_0000, 0b0010_0000, "block {block}");
             assert!(block % 2 == 1 || mask & 0b1_0000 != 0, "block {block}");
+        }
+    }
+
+    #[test]
+    fn cells_along_x_take_consecutive_buckets() {
+        for buckets in [1u32, 16, 1 << 18] {
+            let hash = CellHash {
+                inv_cell: 1.0,
+                buckets,
+            };
+            for (y, z) in [(0, 0), (-3, 7), (i32::MAX, i32::MIN), (12345, -54321)] {
+                for x in [-2, -1, 0, 1, 1000, i32::MAX - 1] {
+                    let b = hash.bucket(IVec3::new(x, y, z));
+                    let next = hash.bucket(IVec3::new(x + 1, y, z));
+                    assert_eq!(next, (b + 1) % buckets as usize, "{x} {y} {z}");
+                }
+            }
         }
     }
 }
