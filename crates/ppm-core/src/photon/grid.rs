@@ -9,8 +9,8 @@
 //! The positions are also kept as three coordinate arrays in the same order: a query tests
 //! about five candidates for every photon inside its sphere (the cube of 2 x 2 cells on a
 //! surface has 16 r² of area, the disc pi r²), so the scan computes the distances of
-//! [`LANES`] candidates at once (the loop vectorises) into a bit mask and calls back only for
-//! the set bits, instead of one unpredictable branch per candidate.
+//! [`LANES`] candidates at once (one 8-wide AVX comparison where the build has AVX) into a bit
+//! mask and calls back only for the set bits, instead of one unpredictable branch per candidate.
 //!
 //! # Determinism
 //!
