@@ -286,10 +286,12 @@ impl HashGrid {
     fn scan(&self, range: Range<usize>, p: Vec3, r2: f32, f: &mut impl FnMut(usize, f32)) {
         let mut i = range.start;
         while i < range.end {
-            let xs: &[f32; LANES] = self.xs[i..i + LANES].try_into().unwrap();
-            let ys: &[f32; LANES] = self.ys[i..i + LANES].try_into().unwrap();
-            let zs: &[f32; LANES] = self.zs[i..i + LANES].try_into().unwrap();
-            let (mut inside, d2) = block_distances(xs, ys, zs, p, r2);
+            let block = Block {
+                xs: self.xs[i..i + LANES].try_into().unwrap(),
+                ys: self.ys[i..i + LANES].try_into().unwrap(),
+                zs: self.zs[i..i + LANES].try_into().unwrap(),
+            };
+            let (mut inside, d2) = block_distances(block, p, r2);
             let valid = (range.end - i).min(LANES);
             inside &= ((1u64 << valid) - 1) as u32;
             while inside != 0 {
@@ -404,6 +406,14 @@ impl HashGrid {
     }
 }
 
+/// The coordinates of [`LANES`] consecutive candidates.
+#[derive(Clone, Copy)]
+struct Block<'a> {
+    xs: &'a [f32; LANES],
+    ys: &'a [f32; LANES],
+    zs: &'a [f32; LANES],
+}
+
 /// The squared distances from `p` of the [`LANES`] candidates `(xs[k], ys[k], zs[k])`, and the
 /// mask of those with `d² <= r2` (bit k for candidate k).
 ///
@@ -411,20 +421,14 @@ impl HashGrid {
 /// `Vec3::distance_squared` computes it: the AVX version and the portable one agree bit for
 /// bit (tested), so results do not depend on how the crate was compiled.
 #[inline(always)]
-fn block_distances(
-    xs: &[f32; LANES],
-    ys: &[f32; LANES],
-    zs: &[f32; LANES],
-    p: Vec3,
-    r2: f32,
-) -> (u32, [f32; LANES]) {
+fn block_distances(block: Block<'_>, p: Vec3, r2: f32) -> (u32, [f32; LANES]) {
     #[cfg(all(target_arch = "x86_64", target_feature = "avx"))]
     {
-        block_distances_avx(xs, ys, zs, p, r2)
+        block_distances_avx(block, p, r2)
     }
     #[cfg(not(all(target_arch = "x86_64", target_feature = "avx")))]
     {
-        block_distances_portable(xs, ys, zs, p, r2)
+        block_distances_portable(block, p, r2)
     }
 }
 
@@ -435,19 +439,13 @@ fn block_distances(
     allow(dead_code) // only the tests call it there
 )]
 #[inline(always)]
-fn block_distances_portable(
-    xs: &[f32; LANES],
-    ys: &[f32; LANES],
-    zs: &[f32; LANES],
-    p: Vec3,
-    r2: f32,
-) -> (u32, [f32; LANES]) {
+fn block_distances_portable(block: Block<'_>, p: Vec3, r2: f32) -> (u32, [f32; LANES]) {
     let mut d2 = [0.0f32; LANES];
     let mut inside = 0u32;
-    for k in 0..LANES {
-        let (dx, dy, dz) = (xs[k] - p.x, ys[k] - p.y, zs[k] - p.z);
-        d2[k] = dx * dx + dy * dy + dz * dz;
-        inside |= ((d2[k] <= r2) as u32) << k;
+    for (k, d2k) in d2.iter_mut().enumerate() {
+        let (dx, dy, dz) = (block.xs[k] - p.x, block.ys[k] - p.y, block.zs[k] - p.z);
+        *d2k = dx * dx + dy * dy + dz * dz;
+        inside |= ((*d2k <= r2) as u32) << k;
     }
     (inside, d2)
 }
@@ -456,22 +454,16 @@ fn block_distances_portable(
 /// operation for all lanes, and the mask straight from the comparison (`vmovmskps`).
 #[cfg(all(target_arch = "x86_64", target_feature = "avx"))]
 #[inline(always)]
-fn block_distances_avx(
-    xs: &[f32; LANES],
-    ys: &[f32; LANES],
-    zs: &[f32; LANES],
-    p: Vec3,
-    r2: f32,
-) -> (u32, [f32; LANES]) {
+fn block_distances_avx(block: Block<'_>, p: Vec3, r2: f32) -> (u32, [f32; LANES]) {
     use std::arch::x86_64::*;
     const _: () = assert!(LANES == 8, "one __m256 holds the block");
     let mut d2 = [0.0f32; LANES];
     // SAFETY: AVX is enabled for this whole build (cfg above), and every load and store
     // reads or writes exactly one `[f32; 8]` through a valid reference (unaligned access).
     let inside = unsafe {
-        let dx = _mm256_sub_ps(_mm256_loadu_ps(xs.as_ptr()), _mm256_set1_ps(p.x));
-        let dy = _mm256_sub_ps(_mm256_loadu_ps(ys.as_ptr()), _mm256_set1_ps(p.y));
-        let dz = _mm256_sub_ps(_mm256_loadu_ps(zs.as_ptr()), _mm256_set1_ps(p.z));
+        let dx = _mm256_sub_ps(_mm256_loadu_ps(block.xs.as_ptr()), _mm256_set1_ps(p.x));
+        let dy = _mm256_sub_ps(_mm256_loadu_ps(block.ys.as_ptr()), _mm256_set1_ps(p.y));
+        let dz = _mm256_sub_ps(_mm256_loadu_ps(block.zs.as_ptr()), _mm256_set1_ps(p.z));
         let sum = _mm256_add_ps(
             _mm256_add_ps(_mm256_mul_ps(dx, dx), _mm256_mul_ps(dy, dy)),
             _mm256_mul_ps(dz, dz),
@@ -589,8 +581,8 @@ mod tests {
     fn block_distances_match_distance_squared_bit_for_bit() {
         let mut rng = crate::sampling::Rng::new(7, 0, 0);
         let mut coordinate = |scale: f32| (rng.uniform() - 0.5) * scale;
-        for block in 0..20_000 {
-            let scale = [1e-3, 1.0, 3.0, 1e5][block % 4];
+        for trial in 0..20_000 {
+            let scale = [1e-3, 1.0, 3.0, 1e5][trial % 4];
             let p = Vec3::new(coordinate(scale), coordinate(scale), coordinate(scale));
             let mut xyz = [[0.0f32; LANES]; 3];
             for k in 0..LANES {
@@ -603,32 +595,36 @@ mod tests {
             xyz[1][6] = f32::NAN;
             (xyz[0][5], xyz[1][5], xyz[2][5]) = (p.x, p.y, p.z);
             let q = Vec3::new(xyz[0][4], xyz[1][4], xyz[2][4]);
-            let r2 = if block % 2 == 0 {
+            let r2 = if trial % 2 == 0 {
                 q.distance_squared(p)
             } else {
                 0.1 * scale * scale
             };
-            let (mask, d2) = block_distances(&xyz[0], &xyz[1], &xyz[2], p, r2);
-            let (mask_portable, d2_portable) =
-                block_distances_portable(&xyz[0], &xyz[1], &xyz[2], p, r2);
-            assert_eq!(mask, mask_portable, "block {block}");
+            let block = Block {
+                xs: &xyz[0],
+                ys: &xyz[1],
+                zs: &xyz[2],
+            };
+            let (mask, d2) = block_distances(block, p, r2);
+            let (mask_portable, d2_portable) = block_distances_portable(block, p, r2);
+            assert_eq!(mask, mask_portable, "trial {trial}");
             for k in 0..LANES {
                 let expected = Vec3::new(xyz[0][k], xyz[1][k], xyz[2][k]).distance_squared(p);
                 assert_eq!(
                     d2[k].to_bits(),
                     expected.to_bits(),
-                    "block {block}, lane {k}"
+                    "trial {trial}, lane {k}"
                 );
                 assert_eq!(d2_portable[k].to_bits(), expected.to_bits());
                 assert_eq!(
                     mask >> k & 1 == 1,
                     expected <= r2,
-                    "block {block}, lane {k}"
+                    "trial {trial}, lane {k}"
                 );
             }
             // The candidate at p is in, padding and NaN are out, the one on the radius is in.
-            assert_eq!(mask & 0b1110_0000, 0b0010_0000, "block {block}");
-            assert!(block % 2 == 1 || mask & 0b1_0000 != 0, "block {block}");
+            assert_eq!(mask & 0b1110_0000, 0b0010_0000, "trial {trial}");
+            assert!(trial % 2 == 1 || mask & 0b1_0000 != 0, "trial {trial}");
         }
     }
 
