@@ -319,7 +319,7 @@ impl HashGrid {
         for z in lo.z..=hi.z {
             for y in lo.y..=hi.y {
                 let first = self.hash.bucket(IVec3::new(lo.x, y, z));
-                // The pending run of new buckets, [run_start, run_end).
+                // The pending run of new, consecutive buckets, [start, end).
                 let mut run: Option<(usize, usize)> = None;
                 for dx in 0..=(hi.x - lo.x) as usize {
                     let b = (first + dx) & mask;
@@ -333,14 +333,14 @@ impl HashGrid {
                         Some((start, end)) if new && b == end => Some((start, b + 1)),
                         pending => {
                             if let Some((start, end)) = pending {
-                                f(self.start[start] as usize..self.start[end] as usize);
+                                f(self.buckets(start..end));
                             }
                             new.then_some((b, b + 1))
                         }
                     };
                 }
                 if let Some((start, end)) = run {
-                    f(self.start[start] as usize..self.start[end] as usize);
+                    f(self.buckets(start..end));
                 }
             }
         }
@@ -368,7 +368,14 @@ impl HashGrid {
     /// The stored range of bucket `b`.
     #[inline]
     fn bucket(&self, b: usize) -> Range<usize> {
-        self.start[b] as usize..self.start[b + 1] as usize
+        self.buckets(b..b + 1)
+    }
+
+    /// The stored range of the consecutive buckets `run` (one range: bucket `b + 1` is
+    /// stored right after bucket `b`).
+    #[inline]
+    fn buckets(&self, run: Range<usize>) -> Range<usize> {
+        self.start[run.start] as usize..self.start[run.end] as usize
     }
 
     /// All stored photons, grouped by bucket in the canonical order.
