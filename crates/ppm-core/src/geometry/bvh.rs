@@ -1,11 +1,16 @@
-//! All primitives of a scene under one obvhs BVH: closest-hit and any-hit queries.
+//! All primitives of a scene under one BVH: closest-hit and any-hit queries.
 //!
-//! obvhs builds a binary BVH (PLOC, then reinsertion and SAH leaf collapsing); traversal is our
-//! own, over obvhs's `Bvh2` nodes, with a robust slab test: the exit distance of every box is
-//! scaled by 1 + 2 gamma(3) (Ize 2013, "Robust BVH Ray Traversal"), which covers the three
-//! roundings of (bound - o) / d, and a zero direction component uses a finite huge inverse
-//! instead of infinity so no 0 * inf = NaN can drop a box. Together with the watertight
-//! triangle test no ray slips between primitives or past a box it touches.
+//! obvhs builds a binary BVH (PLOC, then reinsertion and SAH leaf collapsing, at most 2
+//! primitives per leaf); we collapse it into a 4-wide BVH (each node opens its children with
+//! the largest surface area until it holds four, as Embree's BVH4 does) and traverse that with
+//! our own loop: one node tests the boxes of all four children at once, and a leaf tests its
+//! triangles as one 4-wide packet ([`TrianglePacket`]), lane for lane the scalar watertight test.
+//!
+//! The slab test is robust: the exit distance of every box is scaled by 1 + 2 gamma(3) (Ize
+//! 2013, "Robust BVH Ray Traversal"), which covers the three roundings of (bound - o) / d, and a
+//! zero direction component uses a finite huge inverse instead of infinity so no 0 * inf = NaN
+//! can drop a box. Together with the watertight triangle test no ray slips between primitives
+//! or past a box it touches.
 //!
 //! Why not obvhs's own traversals: its compressed wide BVH (CWBVH) clamps every box entry to
 //! an absolute t >= 1e-4 (`cwbvh::node::EPSILON`), so a ray 1e-5 from a wall of a unit box
@@ -13,26 +18,43 @@
 //! its `Bvh2` traversal replaces direction components below f32::EPSILON by f32::EPSILON and has
 //! no Ize correction. Our own loop also resolves equal distances by primitive id, so the BVH
 //! answers exactly like `intersect_brute_force`.
-//!
-//! Primitive data is copied into BVH leaf order, so a leaf is a contiguous run of records.
 
 use super::sphere::intersect_sphere;
 use super::triangle::{gamma, ShearedRay};
+use super::triangle_packet::{PacketRay, TrianglePacket};
 use super::{Hit, Ray, Sphere, Triangle, TriangleMesh};
-use glam::{DVec3, Vec2, Vec3, Vec3A};
+use glam::{DVec3, Vec2, Vec3, Vec3A, Vec4};
 use obvhs::aabb::Aabb;
-use obvhs::bvh2::node::Bvh2Node;
 use obvhs::bvh2::Bvh2;
 use obvhs::BvhBuildParams;
 
-/// One primitive in leaf order: a triangle (v0, v1, v2) or a sphere (center `a`, radius `b.x`),
-/// told apart by the global id (triangles come first).
+/// A sphere in a leaf.
 #[derive(Clone, Copy, Debug)]
-struct PrimRecord {
-    a: Vec3,
-    b: Vec3,
-    c: Vec3,
+struct SphereRecord {
+    center: Vec3,
+    radius: f32,
     id: u32,
+}
+
+/// A child reference with this bit set names a leaf (the rest is its index), else a node.
+const LEAF: u32 = 1 << 31;
+
+/// A node of the 4-wide BVH: the boxes of its children in structure-of-arrays form.
+#[derive(Clone, Copy, Debug)]
+struct Node4 {
+    /// `min[axis]` / `max[axis]`: that coordinate of each child's box.
+    min: [Vec4; 3],
+    max: [Vec4; 3],
+    child: [u32; 4],
+    /// Bitmask of the children in use.
+    valid: u32,
+}
+
+/// A leaf: a run of triangle packets and a run of spheres.
+#[derive(Clone, Copy, Debug)]
+struct Leaf {
+    packets: (u32, u32),
+    spheres: (u32, u32),
 }
 
 /// Traversal stack size kept on the call stack; deeper trees (never seen in practice) use a
@@ -44,9 +66,11 @@ const SLAB_SCALE: f32 = 1.0 + 2.0 * gamma(3);
 
 /// The scene's geometry and its acceleration structure. Immutable once built.
 pub struct Geometry {
-    nodes: Vec<Bvh2Node>,
-    /// Primitive records in leaf order.
-    records: Vec<PrimRecord>,
+    /// The 4-wide BVH; the root is node 0 (no nodes without primitives).
+    nodes: Vec<Node4>,
+    leaves: Vec<Leaf>,
+    packets: Vec<TrianglePacket>,
+    sphere_records: Vec<SphereRecord>,
     /// Triangles, their materials and shading-normal slots, by global id.
     triangles: Vec<Triangle>,
     tri_materials: Vec<u32>,
@@ -56,17 +80,17 @@ pub struct Geometry {
     spheres: Vec<Sphere>,
     skipped: usize,
     bounds: (Vec3, Vec3),
-    /// Longest root-to-leaf path: the traversal stack never holds more entries.
-    depth: usize,
+    /// The traversal stack never holds more entries (3 per level of the tree).
+    stack_size: usize,
 }
 
-/// The closest candidate found so far: distance, global id, leaf slot and barycentrics.
+/// The closest candidate found so far: distance, global id and barycentrics.
 #[derive(Clone, Copy)]
 struct Closest {
     t: f32,
     id: u32,
-    slot: u32,
     uv: Vec2,
+    found: bool,
 }
 
 impl Closest {
@@ -75,6 +99,19 @@ impl Closest {
     fn improves(&self, t: f32, id: u32) -> bool {
         t < self.t || (t == self.t && id < self.id)
     }
+
+    /// Keeps the candidate if it improves on the closest so far.
+    #[inline(always)]
+    fn offer(&mut self, t: f32, id: u32, uv: Vec2) {
+        if self.improves(t, id) {
+            *self = Closest {
+                t,
+                id,
+                uv,
+                found: true,
+            };
+        }
+    }
 }
 
 /// Per-ray constants of the traversal.
@@ -82,6 +119,7 @@ struct TraversalRay {
     origin: Vec3A,
     inv_dir: Vec3A,
     shear: ShearedRay,
+    packet: PacketRay,
     origin3: Vec3,
     dir: Vec3,
 }
@@ -99,52 +137,40 @@ impl TraversalRay {
                 f32::MAX.copysign(d)
             }
         };
+        let shear = ShearedRay::new(ray.origin, ray.dir);
         TraversalRay {
             origin: ray.origin.into(),
             inv_dir: Vec3A::new(inv(ray.dir.x), inv(ray.dir.y), inv(ray.dir.z)),
-            shear: ShearedRay::new(ray.origin, ray.dir),
+            packet: PacketRay::new(&shear),
+            shear,
             origin3: ray.origin,
             dir: ray.dir,
         }
     }
 
-    /// Entry distance of the box if the ray meets it within [0, t_max], else infinity.
+    /// The slab test of a node's four child boxes against [0, t_max]: the bitmask of the
+    /// children met and their entry distances.
     #[inline(always)]
-    fn slab(&self, aabb: &Aabb, t_max: f32) -> f32 {
-        let t0 = (aabb.min - self.origin) * self.inv_dir;
-        let t1 = (aabb.max - self.origin) * self.inv_dir;
-        let (near, far) = (t0.min(t1), t0.max(t1));
-        // No NaN can occur here (see `new`), so plain comparisons do: they compile to single
-        // min/max instructions, unlike the NaN-aware `f32::max`.
-        let max = |a: f32, b: f32| if a > b { a } else { b };
-        let min = |a: f32, b: f32| if a < b { a } else { b };
-        let t_near = max(max(near.x, near.y), max(near.z, 0.0));
-        let t_far = min(min(far.x, far.y), min(far.z, t_max)) * SLAB_SCALE;
-        if t_near <= t_far {
-            t_near
-        } else {
-            f32::INFINITY
-        }
+    fn slab4(&self, node: &Node4, t_max: f32) -> (u32, Vec4) {
+        let axis = |a: usize| {
+            let (o, inv) = (Vec4::splat(self.origin[a]), Vec4::splat(self.inv_dir[a]));
+            let t0 = (node.min[a] - o) * inv;
+            let t1 = (node.max[a] - o) * inv;
+            (t0.min(t1), t0.max(t1))
+        };
+        let ((near_x, far_x), (near_y, far_y), (near_z, far_z)) = (axis(0), axis(1), axis(2));
+        // No NaN can occur here (see `new`), so the SSE min/max (a < b ? a : b) are exact.
+        let t_near = near_x.max(near_y).max(near_z.max(Vec4::ZERO));
+        let t_far = far_x.min(far_y).min(far_z.min(Vec4::splat(t_max))) * Vec4::splat(SLAB_SCALE);
+        (t_near.cmple(t_far).bitmask() & node.valid, t_near)
     }
 
-    /// Intersects one primitive record: (t, barycentrics or zero) with t in (0, t_max].
+    /// Intersects a sphere: t in (0, t_max].
     #[inline(always)]
-    fn primitive(&self, r: &PrimRecord, n_tri: u32, t_max: f32) -> Option<(f32, Vec2)> {
-        if r.id < n_tri {
-            // Slightly widened bound: the final comparison is on the returned t itself.
-            self.shear
-                .intersect(r.a, r.b, r.c, t_max * (1.0 + 4.0 * f32::EPSILON))
-                .map(|(t, b1, b2)| (t, Vec2::new(b1, b2)))
-        } else {
-            intersect_sphere(
-                r.a,
-                r.b.x,
-                self.origin3,
-                self.dir,
-                t_max * (1.0 + 4.0 * f32::EPSILON),
-            )
-            .map(|t| (t, Vec2::ZERO))
-        }
+    fn sphere(&self, s: &SphereRecord, t_max: f32) -> Option<f32> {
+        // Slightly widened bound: the final comparison is on the returned t itself.
+        let bound = t_max * (1.0 + 4.0 * f32::EPSILON);
+        intersect_sphere(s.center, s.radius, self.origin3, self.dir, bound)
     }
 }
 
@@ -184,7 +210,6 @@ impl Geometry {
             }
         }
         let spheres = spheres.to_vec();
-        let n_tri = triangles.len();
 
         let mut aabbs: Vec<Aabb> = triangles
             .iter()
@@ -208,53 +233,26 @@ impl Geometry {
         });
         let bounds = bounds.map_or((Vec3::ZERO, Vec3::ZERO), |b| (b.min.into(), b.max.into()));
 
-        let (nodes, order) = if aabbs.is_empty() {
-            (Vec::new(), Vec::new())
-        } else {
-            // At most 2 primitives per leaf. Callgrind, one iteration (photons, then eye
-            // paths) of the specular, water and diffuse boxes: 593 M, 1194 M, 407 M
-            // instructions in all, against 672 M, 1223 M, 422 M with 4 and 611 M, 1229 M,
-            // 424 M with 1. The box walls span the scene, so bigger leaves cull nothing.
+        let mut wide = WideBvh::default();
+        if !aabbs.is_empty() {
+            // At most 2 primitives per leaf (one quad: a half-filled packet). Callgrind, one
+            // iteration (`--photons 65536 --width 256 --height 256 -n 1 --threads 1`), whole
+            // program, leaves of at most 1 / 2 / 4: specular box 531 / 484 / 584 M
+            // instructions, water 1349 / 1229 / 1222 M, diffuse box 537 / 477 / 479 M. The
+            // box walls span the scene, so bigger leaves cull less.
             let params = BvhBuildParams {
                 max_prims_per_leaf: 2,
                 ..BvhBuildParams::medium_build()
             };
             let bvh: Bvh2 =
                 obvhs::bvh2::builder::build_bvh2(&aabbs, params, &mut Default::default());
-            (bvh.nodes, bvh.primitive_indices)
-        };
-        let records = order
-            .iter()
-            .map(|&id| {
-                let id = id as usize;
-                if id < n_tri {
-                    let [a, b, c] = triangles[id].v;
-                    PrimRecord {
-                        a,
-                        b,
-                        c,
-                        id: id as u32,
-                    }
-                } else {
-                    let s = &spheres[id - n_tri];
-                    let (a, r) = if s.center.is_finite() {
-                        (s.center, s.radius.abs())
-                    } else {
-                        (Vec3::ZERO, 0.0)
-                    };
-                    PrimRecord {
-                        a,
-                        b: Vec3::new(r, 0.0, 0.0),
-                        c: Vec3::ZERO,
-                        id: id as u32,
-                    }
-                }
-            })
-            .collect();
-        let depth = tree_depth(&nodes);
+            wide.build(&bvh, &triangles, &spheres);
+        }
         Geometry {
-            nodes,
-            records,
+            nodes: wide.nodes,
+            leaves: wide.leaves,
+            packets: wide.packets,
+            sphere_records: wide.spheres,
             triangles,
             tri_materials,
             tri_normals,
@@ -262,7 +260,7 @@ impl Geometry {
             spheres,
             skipped,
             bounds,
-            depth,
+            stack_size: 3 * wide.depth + 1,
         }
     }
 
@@ -273,61 +271,67 @@ impl Geometry {
         let mut best = Closest {
             t: ray.t_max,
             id: 0,
-            slot: u32::MAX,
             uv: Vec2::ZERO,
+            found: false,
         };
-        let n_tri = self.triangles.len() as u32;
-        self.traverse(&tr, ray.t_max, |range, t_max| {
-            for slot in range {
-                let r = &self.records[slot];
-                if let Some((t, uv)) = tr.primitive(r, n_tri, best.t) {
-                    if best.improves(t, r.id) {
-                        best = Closest {
-                            t,
-                            id: r.id,
-                            slot: slot as u32,
-                            uv,
-                        };
-                    }
+        self.traverse(&tr, ray.t_max, |leaf, t_max| {
+            for packet in &self.packets[leaf.packets.0 as usize..leaf.packets.1 as usize] {
+                // Slightly widened bound: the final comparison is on the returned t itself.
+                let bound = best.t * (1.0 + 4.0 * f32::EPSILON);
+                packet.intersect(&tr.shear, &tr.packet, bound, |lane, t, b1, b2| {
+                    best.offer(t, packet.id[lane], Vec2::new(b1, b2));
+                });
+            }
+            for s in &self.sphere_records[leaf.spheres.0 as usize..leaf.spheres.1 as usize] {
+                if let Some(t) = tr.sphere(s, best.t) {
+                    best.offer(t, s.id, Vec2::ZERO);
                 }
             }
             *t_max = best.t;
             false
         });
-        (best.slot != u32::MAX).then(|| self.hit(ray, best.t, best.id, best.uv))
+        best.found.then(|| self.hit(ray, best.t, best.id, best.uv))
     }
 
     /// True if anything blocks the ray within (0, t_max).
     #[inline]
     pub fn occluded(&self, ray: &Ray) -> bool {
         let tr = TraversalRay::new(ray);
-        let n_tri = self.triangles.len() as u32;
-        let mut blocked = false;
-        self.traverse(&tr, ray.t_max, |range, _| {
-            blocked = self.records[range].iter().any(|r| {
-                tr.primitive(r, n_tri, ray.t_max)
-                    .is_some_and(|(t, _)| t < ray.t_max)
-            });
-            blocked
-        });
-        blocked
+        let bound = ray.t_max * (1.0 + 4.0 * f32::EPSILON);
+        self.traverse(&tr, ray.t_max, |leaf, _| {
+            let mut blocked = false;
+            for packet in &self.packets[leaf.packets.0 as usize..leaf.packets.1 as usize] {
+                packet.intersect(&tr.shear, &tr.packet, bound, |_, t, _, _| {
+                    blocked |= t < ray.t_max;
+                });
+                if blocked {
+                    return true;
+                }
+            }
+            self.sphere_records[leaf.spheres.0 as usize..leaf.spheres.1 as usize]
+                .iter()
+                .any(|s| tr.sphere(s, ray.t_max).is_some_and(|t| t < ray.t_max))
+        })
     }
 
-    /// Stack traversal, nearer child first. `leaf(range, t_max)` tests the records of a leaf,
-    /// may shrink `t_max`, and returns true to stop.
+    /// Stack traversal, nearest child first. `leaf(leaf, t_max)` tests the primitives of a
+    /// leaf, may shrink `t_max`, and returns true to stop; so does `traverse`.
     #[inline(always)]
     fn traverse(
         &self,
         tr: &TraversalRay,
         t_max: f32,
-        mut leaf: impl FnMut(std::ops::Range<usize>, &mut f32) -> bool,
-    ) {
-        if self.depth < STACK_SIZE {
-            let mut stack = [0u32; STACK_SIZE];
-            self.traverse_with(tr, t_max, &mut stack, &mut leaf);
+        mut leaf: impl FnMut(&Leaf, &mut f32) -> bool,
+    ) -> bool {
+        if self.nodes.is_empty() {
+            return false;
+        }
+        if self.stack_size <= STACK_SIZE {
+            let mut stack = [(0u32, 0.0f32); STACK_SIZE];
+            self.traverse_with(tr, t_max, &mut stack, &mut leaf)
         } else {
-            let mut stack = vec![0u32; self.depth + 1];
-            self.traverse_with(tr, t_max, &mut stack, &mut leaf);
+            let mut stack = vec![(0u32, 0.0f32); self.stack_size];
+            self.traverse_with(tr, t_max, &mut stack, &mut leaf)
         }
     }
 
@@ -336,97 +340,83 @@ impl Geometry {
         &self,
         tr: &TraversalRay,
         mut t_max: f32,
-        stack: &mut [u32],
-        leaf: &mut impl FnMut(std::ops::Range<usize>, &mut f32) -> bool,
-    ) {
-        let Some(root) = self.nodes.first() else {
-            return;
-        };
-        if tr.slab(&root.aabb, t_max) == f32::INFINITY {
-            return;
-        }
-        let leaf_range =
-            |n: &Bvh2Node| n.first_index as usize..(n.first_index + n.prim_count) as usize;
-        if root.is_leaf() {
-            leaf(leaf_range(root), &mut t_max);
-            return;
-        }
+        stack: &mut [(u32, f32)],
+        leaf: &mut impl FnMut(&Leaf, &mut f32) -> bool,
+    ) -> bool {
+        // Entries are (child reference, entry distance), the nearest on top.
         let mut sp = 0;
-        let mut current = root.first_index as usize;
+        let mut current = 0u32;
         loop {
-            // `current` is the left child of a pair; the right one follows it.
-            let (left, right) = (&self.nodes[current], &self.nodes[current + 1]);
-            let mut t_left = tr.slab(&left.aabb, t_max);
-            let mut t_right = tr.slab(&right.aabb, t_max);
-            let mut left_inner = None;
-            let mut right_inner = None;
-            if t_left < f32::INFINITY {
-                if left.is_leaf() {
-                    if leaf(leaf_range(left), &mut t_max) {
-                        return;
-                    }
-                    t_left = f32::INFINITY;
-                } else {
-                    left_inner = Some(left.first_index);
+            if current & LEAF != 0 {
+                if leaf(&self.leaves[(current & !LEAF) as usize], &mut t_max) {
+                    return true;
                 }
-            }
-            if t_right < f32::INFINITY {
-                // The left leaf may have shortened the ray.
-                if t_right > t_max * SLAB_SCALE {
-                    t_right = f32::INFINITY;
-                } else if right.is_leaf() {
-                    if leaf(leaf_range(right), &mut t_max) {
-                        return;
+            } else {
+                let node = &self.nodes[current as usize];
+                let (mut met, t_near) = tr.slab4(node, t_max);
+                if met != 0 {
+                    let first = met.trailing_zeros() as usize;
+                    met &= met - 1;
+                    if met == 0 {
+                        current = node.child[first];
+                        continue;
                     }
-                    t_right = f32::INFINITY;
-                } else {
-                    right_inner = Some(right.first_index);
-                }
-            }
-            current = match (left_inner, right_inner) {
-                (Some(l), Some(r)) => {
-                    let (near, far) = if t_left <= t_right { (l, r) } else { (r, l) };
-                    stack[sp] = far;
+                    // Two or more children: push them all, sorted so the nearest is on top.
+                    let base = sp;
+                    stack[sp] = (node.child[first], t_near[first]);
                     sp += 1;
-                    near as usize
-                }
-                (Some(l), None) => l as usize,
-                (None, Some(r)) => r as usize,
-                (None, None) => {
-                    if sp == 0 {
-                        return;
+                    while met != 0 {
+                        let i = met.trailing_zeros() as usize;
+                        met &= met - 1;
+                        let entry = (node.child[i], t_near[i]);
+                        let mut j = sp;
+                        while j > base && stack[j - 1].1 < entry.1 {
+                            stack[j] = stack[j - 1];
+                            j -= 1;
+                        }
+                        stack[j] = entry;
+                        sp += 1;
                     }
-                    // A deferred pair: its boxes are tested against the ray as it is now.
-                    sp -= 1;
-                    stack[sp] as usize
                 }
-            };
+            }
+            // The nearest deferred child still in reach: the slab test as it would be now.
+            loop {
+                if sp == 0 {
+                    return false;
+                }
+                sp -= 1;
+                let (child, t_near) = stack[sp];
+                if t_near <= t_max * SLAB_SCALE {
+                    current = child;
+                    break;
+                }
+            }
         }
     }
 
     /// Closest hit by testing every primitive (the reference for tests).
     pub fn intersect_brute_force(&self, ray: &Ray) -> Option<Hit> {
         let tr = TraversalRay::new(ray);
-        let n_tri = self.triangles.len() as u32;
         let mut best = Closest {
             t: ray.t_max,
             id: 0,
-            slot: u32::MAX,
             uv: Vec2::ZERO,
+            found: false,
         };
-        for (slot, r) in self.records.iter().enumerate() {
-            if let Some((t, uv)) = tr.primitive(r, n_tri, best.t) {
-                if best.improves(t, r.id) {
-                    best = Closest {
-                        t,
-                        id: r.id,
-                        slot: slot as u32,
-                        uv,
-                    };
-                }
+        for (id, tri) in self.triangles.iter().enumerate() {
+            let [v0, v1, v2] = tri.v;
+            let bound = best.t * (1.0 + 4.0 * f32::EPSILON);
+            if let Some((t, b1, b2)) = tr.shear.intersect(v0, v1, v2, bound) {
+                best.offer(t, id as u32, Vec2::new(b1, b2));
             }
         }
-        (best.slot != u32::MAX).then(|| self.hit(ray, best.t, best.id, best.uv))
+        for (i, s) in self.spheres.iter().enumerate() {
+            let id = self.triangles.len() + i;
+            if let Some(t) = tr.sphere(&sphere_record(s, id), best.t) {
+                best.offer(t, id as u32, Vec2::ZERO);
+            }
+        }
+        best.found.then(|| self.hit(ray, best.t, best.id, best.uv))
     }
 
     /// Everything the integrators need about the hit on primitive `prim` at distance `t`.
@@ -514,23 +504,131 @@ impl Geometry {
     }
 }
 
-/// Number of inner nodes on the longest root-to-leaf path.
-fn tree_depth(nodes: &[Bvh2Node]) -> usize {
-    let Some(root) = nodes.first() else {
-        return 0;
+/// A sphere's leaf record; a sphere with a non-finite center is never hit (radius 0).
+fn sphere_record(s: &Sphere, id: usize) -> SphereRecord {
+    let (center, radius) = if s.center.is_finite() {
+        (s.center, s.radius.abs())
+    } else {
+        (Vec3::ZERO, 0.0)
     };
-    if root.is_leaf() {
-        return 0;
+    SphereRecord {
+        center,
+        radius,
+        id: id as u32,
     }
-    let mut max_depth = 0;
-    let mut stack = vec![(root.first_index as usize, 1usize)];
-    while let Some((pair, depth)) = stack.pop() {
-        max_depth = max_depth.max(depth);
-        for node in &nodes[pair..pair + 2] {
-            if !node.is_leaf() {
-                stack.push((node.first_index as usize, depth + 1));
-            }
+}
+
+/// The 4-wide BVH being collapsed from obvhs's binary one.
+#[derive(Default)]
+struct WideBvh {
+    nodes: Vec<Node4>,
+    leaves: Vec<Leaf>,
+    packets: Vec<TrianglePacket>,
+    spheres: Vec<SphereRecord>,
+    /// Nodes on the longest root-to-leaf path.
+    depth: usize,
+}
+
+impl WideBvh {
+    fn build(&mut self, bvh: &Bvh2, triangles: &[Triangle], spheres: &[Sphere]) {
+        let root = &bvh.nodes[0];
+        if root.is_leaf() {
+            // A single leaf still hangs below a node: traversal starts at a node.
+            let leaf = self.leaf(bvh, 0, triangles, spheres);
+            let mut node = Node4::EMPTY;
+            node.set_child(0, &root.aabb, leaf);
+            self.nodes.push(node);
+            self.depth = 1;
+        } else {
+            self.node(bvh, 0, triangles, spheres, 1);
         }
     }
-    max_depth
+
+    /// Collapses the binary subtree under inner node `index`; returns the new node's index.
+    fn node(
+        &mut self,
+        bvh: &Bvh2,
+        index: usize,
+        triangles: &[Triangle],
+        spheres: &[Sphere],
+        depth: usize,
+    ) -> u32 {
+        self.depth = self.depth.max(depth);
+        let first = bvh.nodes[index].first_index as usize;
+        let mut children = vec![first, first + 1];
+        // Open the inner child with the largest surface area until there are four.
+        while children.len() < 4 {
+            let widest = (0..children.len())
+                .filter(|&i| !bvh.nodes[children[i]].is_leaf())
+                .max_by(|&a, &b| {
+                    let area = |i: usize| bvh.nodes[children[i]].aabb.half_area();
+                    area(a).total_cmp(&area(b))
+                });
+            let Some(i) = widest else { break };
+            let pair = bvh.nodes[children[i]].first_index as usize;
+            children.splice(i..=i, [pair, pair + 1]);
+        }
+        let slot = self.nodes.len();
+        self.nodes.push(Node4::EMPTY);
+        let mut node = Node4::EMPTY;
+        for (i, &c) in children.iter().enumerate() {
+            let child = if bvh.nodes[c].is_leaf() {
+                self.leaf(bvh, c, triangles, spheres)
+            } else {
+                self.node(bvh, c, triangles, spheres, depth + 1)
+            };
+            node.set_child(i, &bvh.nodes[c].aabb, child);
+        }
+        self.nodes[slot] = node;
+        slot as u32
+    }
+
+    /// Packs the primitives of binary leaf `index`; returns its child reference.
+    fn leaf(
+        &mut self,
+        bvh: &Bvh2,
+        index: usize,
+        triangles: &[Triangle],
+        spheres: &[Sphere],
+    ) -> u32 {
+        let n = &bvh.nodes[index];
+        let prims = &bvh.primitive_indices[n.first_index as usize..][..n.prim_count as usize];
+        let tris: Vec<([Vec3; 3], u32)> = prims
+            .iter()
+            .filter(|&&id| (id as usize) < triangles.len())
+            .map(|&id| (triangles[id as usize].v, id))
+            .collect();
+        let packets = self.packets.len() as u32;
+        self.packets.extend(tris.chunks(4).map(TrianglePacket::new));
+        let first_sphere = self.spheres.len() as u32;
+        self.spheres.extend(
+            prims
+                .iter()
+                .filter(|&&id| id as usize >= triangles.len())
+                .map(|&id| sphere_record(&spheres[id as usize - triangles.len()], id as usize)),
+        );
+        self.leaves.push(Leaf {
+            packets: (packets, self.packets.len() as u32),
+            spheres: (first_sphere, self.spheres.len() as u32),
+        });
+        LEAF | (self.leaves.len() as u32 - 1)
+    }
+}
+
+impl Node4 {
+    const EMPTY: Node4 = Node4 {
+        min: [Vec4::ZERO; 3],
+        max: [Vec4::ZERO; 3],
+        child: [0; 4],
+        valid: 0,
+    };
+
+    fn set_child(&mut self, i: usize, aabb: &Aabb, child: u32) {
+        for axis in 0..3 {
+            self.min[axis][i] = aabb.min[axis];
+            self.max[axis][i] = aabb.max[axis];
+        }
+        self.child[i] = child;
+        self.valid |= 1 << i;
+    }
 }

@@ -8,6 +8,7 @@ mod mesh;
 mod ray;
 mod sphere;
 mod triangle;
+mod triangle_packet;
 
 pub use bvh::Geometry;
 pub use mesh::TriangleMesh;

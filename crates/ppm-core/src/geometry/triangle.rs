@@ -46,16 +46,16 @@ pub(crate) const fn gamma(n: i32) -> f32 {
 /// Per-ray constants of the watertight test: the axis permutation and the shear.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct ShearedRay {
-    origin: Vec3,
+    pub(super) origin: Vec3,
     dir: Vec3,
     /// Permutation: `kz` is the axis of the largest |dir| component.
-    kx: usize,
-    ky: usize,
-    kz: usize,
+    pub(super) kx: usize,
+    pub(super) ky: usize,
+    pub(super) kz: usize,
     /// Shear: x' = x - sx z, y' = y - sy z, z' = sz z (after permutation).
-    sx: f32,
-    sy: f32,
-    sz: f32,
+    pub(super) sx: f32,
+    pub(super) sy: f32,
+    pub(super) sz: f32,
 }
 
 impl ShearedRay {
@@ -153,7 +153,7 @@ impl ShearedRay {
         let max_x = x0.abs().max(x1.abs()).max(x2.abs());
         let max_y = y0.abs().max(y1.abs()).max(y2.abs());
         let max_e = e0.abs().max(e1.abs()).max(e2.abs());
-        let delta_t = t_error_bound::<f32>(max_x, max_y, max_z, max_e, inv_det.abs(), gamma);
+        let delta_t = t_error_bound(max_x, max_y, max_z, max_e, inv_det.abs(), gamma);
         let t = if t > delta_t {
             t
         } else if t >= -delta_t {
@@ -204,7 +204,7 @@ impl ShearedRay {
         let max_x = x0.abs().max(x1.abs()).max(x2.abs());
         let max_y = y0.abs().max(y1.abs()).max(y2.abs());
         let max_e = e0.abs().max(e1.abs()).max(e2.abs());
-        let delta_t = t_error_bound::<f64>(max_x, max_y, max_z, max_e, inv_det.abs(), gamma64);
+        let delta_t = t_error_bound(max_x, max_y, max_z, max_e, inv_det.abs(), gamma64);
         let t32 = t as f32;
         (t > delta_t && t32 > 0.0).then_some(t32)
     }
@@ -217,25 +217,51 @@ fn gamma64(n: i32) -> f64 {
     n as f64 * u / (1.0 - n as f64 * u)
 }
 
+/// Scalars the error bound is evaluated in: f32, f64 and four f32 lanes (the packet test).
+pub(super) trait Real:
+    Copy + std::ops::Add<Output = Self> + std::ops::Mul<Output = Self>
+{
+    fn constant(x: f32) -> Self;
+}
+
+impl Real for f32 {
+    #[inline(always)]
+    fn constant(x: f32) -> Self {
+        x
+    }
+}
+
+impl Real for f64 {
+    #[inline(always)]
+    fn constant(x: f32) -> Self {
+        x as f64
+    }
+}
+
+impl Real for glam::Vec4 {
+    #[inline(always)]
+    fn constant(x: f32) -> Self {
+        glam::Vec4::splat(x)
+    }
+}
+
 /// pbrt-v4's bound on the error of t = (e0 z0 + e1 z1 + e2 z2) / det, from the largest
-/// magnitudes of the transformed coordinates, the edge functions and 1 / |det|.
+/// magnitudes of the transformed coordinates, the edge functions and 1 / |det|. The same
+/// expression (and so the same roundings) for every `Real`.
 #[inline(always)]
-fn t_error_bound<F>(
+pub(super) fn t_error_bound<F: Real>(
     max_x: F,
     max_y: F,
     max_z: F,
     max_e: F,
     inv_det: F,
     gamma: impl Fn(i32) -> F,
-) -> F
-where
-    F: Copy + std::ops::Add<Output = F> + std::ops::Mul<Output = F> + From<f32>,
-{
+) -> F {
     let delta_z = gamma(3) * max_z;
     let delta_x = gamma(5) * (max_x + max_z);
     let delta_y = gamma(5) * (max_y + max_z);
-    let delta_e = F::from(2.0) * (gamma(2) * max_x * max_y + delta_y * max_x + delta_x * max_y);
-    F::from(3.0) * (gamma(3) * max_e * max_z + delta_e * max_z + delta_z * max_e) * inv_det
+    let delta_e = F::constant(2.0) * (gamma(2) * max_x * max_y + delta_y * max_x + delta_x * max_y);
+    F::constant(3.0) * (gamma(3) * max_e * max_z + delta_e * max_z + delta_z * max_e) * inv_det
 }
 
 /// Watertight ray-triangle intersection (Woop, Benthin and Wald 2013). Returns (t, b1, b2)
