@@ -313,6 +313,35 @@ impl HashGrid {
     /// bucket lookups and partial blocks.
     #[inline]
     fn for_each_distinct_bucket(&self, lo: IVec3, hi: IVec3, mut f: impl FnMut(Range<usize>)) {
+        // Usually the rows' runs of buckets are disjoint and none wraps around the end of
+        // the table: then each row is one run, handed out whole, with no per-bucket
+        // bookkeeping (and no unpredictable branch). This is what the general walk below
+        // does in that case, in the same order.
+        let buckets = self.hash.buckets as usize;
+        let len = (hi.x - lo.x) as usize + 1;
+        let mut rows = [0usize; SMALL_QUERY];
+        let mut n_rows = 0;
+        for z in lo.z..=hi.z {
+            for y in lo.y..=hi.y {
+                rows[n_rows] = self.hash.bucket(IVec3::new(lo.x, y, z));
+                n_rows += 1;
+            }
+        }
+        let rows = &rows[..n_rows];
+        let mut clash = false;
+        for (i, &a) in rows.iter().enumerate() {
+            clash |= a + len > buckets;
+            for &b in &rows[..i] {
+                clash |= (a < b + len) & (b < a + len);
+            }
+        }
+        if !clash {
+            for &row in rows {
+                f(self.buckets(row..row + len));
+            }
+            return;
+        }
+
         let mut seen = [0usize; SMALL_QUERY];
         let mut n_seen = 0;
         let mask = self.hash.buckets as usize - 1;
