@@ -109,6 +109,63 @@ fn flux_query_hands_out_the_same_photons_in_the_same_order() {
     }
 }
 
+/// The kernel-weighted flux sum of the density estimate against a brute-force sum over all
+/// photons: the same photons (within r, from the side of n), weighted by the same kernel; the
+/// grid sums per lane, so the two agree up to rounding. Small and large radii (the lane sum
+/// and the per-photon path), many and few buckets (disjoint rows and shared buckets), a huge
+/// flux on the far side of a query (it must not leak in as NaN).
+#[test]
+fn kernel_flux_matches_a_brute_force_sum() {
+    let mut rng = Rng::new(9, 0, 0);
+    let (lo, hi) = (Vec3::splat(-1.0), Vec3::splat(1.0));
+    let mut photons: Vec<_> = (0..30_000)
+        .map(|i| {
+            let wi = (random_in_box(&mut rng, lo, hi) + Vec3::splat(1e-3)).normalize();
+            let flux = Vec3::new(rng.uniform(), rng.uniform(), rng.uniform()) * 3.0;
+            Photon::new(random_in_box(&mut rng, lo, hi), wi, flux, i)
+        })
+        .collect();
+    // An infinite flux away from the others, which must never turn a sum into NaN.
+    let far = Vec3::splat(5.0);
+    photons.push(Photon::new(
+        far,
+        Vec3::Z,
+        Vec3::splat(f32::INFINITY),
+        30_000,
+    ));
+    let mut grid = HashGrid::new();
+    let mut nonzero = 0;
+    for (build_radius, buckets) in [(0.1, 30_000), (0.1, 16), (0.1, 1)] {
+        grid.build_with_buckets(&photons, build_radius, buckets);
+        for i in 0..600 {
+            let mut p = random_in_box(&mut rng, lo, hi);
+            let r = if i % 4 == 0 { 2.5 } else { 1.0 } * build_radius * (0.3 + 0.7 * rng.uniform());
+            let mut n = (random_in_box(&mut rng, lo, hi) + Vec3::splat(1e-3)).normalize();
+            if i % 10 == 0 {
+                // Next to the infinite photon, which arrived from +z, seen from below.
+                p = far + Vec3::new(0.01, -0.02, 0.0);
+                n = Vec3::new(0.0, 0.0, -1.0);
+            }
+            let kernel = Kernel::new(r);
+            let expected = photons
+                .iter()
+                .filter(|ph| ph.position.distance_squared(p) <= r * r && ph.arrived_from(n))
+                .fold(Vec3::ZERO, |sum, ph| {
+                    sum + ph.flux * kernel.weight(ph.position.distance_squared(p))
+                });
+            let got = grid.kernel_flux(p, r, n, &kernel);
+            let tolerance = 1e-5 * expected.abs().max_element().max(1e-30);
+            assert!(
+                (got - expected).abs().max_element() <= tolerance,
+                "query at {p}, r = {r}, n = {n} ({buckets} buckets): {got} vs {expected}"
+            );
+            assert!(got.is_finite(), "query at {p}: {got}");
+            nonzero += (expected != Vec3::ZERO) as u32;
+        }
+    }
+    assert!(nonzero > 1200, "only {nonzero} non-zero sums");
+}
+
 #[test]
 fn points_and_photons_exactly_on_cell_boundaries() {
     // Cells of side 0.5; photons on a lattice of spacing 0.25 through every cell corner, face

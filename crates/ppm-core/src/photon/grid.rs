@@ -6,11 +6,13 @@
 //! query visits the buckets of the (usually 2 x 2 x 2) cells its sphere overlaps. Cells that
 //! follow each other along x take consecutive buckets, so those 8 cells are 4 runs of memory.
 //!
-//! The positions are also kept as three coordinate arrays in the same order: a query tests
-//! about five candidates for every photon inside its sphere (the cube of 2 x 2 cells on a
-//! surface has 16 r² of area, the disc pi r²), so the scan computes the distances of
-//! [`LANES`] candidates at once (one 8-wide AVX comparison where the build has AVX) into a bit
-//! mask and calls back only for the set bits, instead of one unpredictable branch per candidate.
+//! The photons are also kept as columns in the same order (position, flux and incoming
+//! direction, one array per coordinate): a query tests about five candidates for every photon
+//! inside its sphere (the cube of 2 x 2 cells on a surface has 16 r² of area, the disc
+//! pi r²), so it works on [`LANES`] candidates at once (8-wide AVX where the build has AVX).
+//! [`HashGrid::for_each_in_radius`] computes their distances into a bit mask and calls back
+//! for the set bits only; [`HashGrid::kernel_flux`], the density estimate's sum, weights and
+//! masks all lanes and has no branch per photon at all (see [`super::gather`]).
 //!
 //! # Determinism
 //!
@@ -20,16 +22,14 @@
 //! stored order depends only on the set of photons, and so does the order in which a query
 //! calls its closure: gathers sum in the same order at any thread count.
 
-use super::{FluxRecord, Photon};
+use super::gather::{Columns, FluxQuery, FluxSum, LANES};
+use super::{FluxRecord, Kernel, Photon};
 use glam::{IVec3, Vec3};
 use rayon::prelude::*;
 use std::ops::Range;
 
 /// Photon count below which a build step runs serially (parallel overhead dominates).
 const PARALLEL_MIN: usize = 1 << 14;
-
-/// Candidates whose distances the gather computes at once (see `HashGrid::scan`).
-const LANES: usize = 8;
 
 /// Cells a query dedupes through a stack array: 3 x 3 x 3 covers any radius up to the cell
 /// size (half the cell when the query radius equals the build radius, plus rounding slivers).
@@ -54,7 +54,7 @@ impl CellHash {
     /// The bucket of cell `c`: the row of cells along x through `c` starts at a hashed
     /// bucket, and the row's cells take the buckets after it (modulo the table size), so
     /// neighbours along x are neighbours in memory and a query reads a 2 x 2 x 2 block of
-    /// cells as 4 runs instead of 8 scattered buckets ([`HashGrid::for_each_distinct_bucket`]).
+    /// cells as 4 runs instead of 8 scattered buckets ([`HashGrid::bucket_runs`]).
     ///
     /// The row's bucket: a linear combination of (y, z) with large odd 64-bit constants
     /// (injective on any realistic block of cells), the SplitMix64 finaliser (full
@@ -94,13 +94,9 @@ pub struct HashGrid {
     cell_size: f32,
     /// Photons grouped by bucket; within a bucket ordered by `Photon::order_key`.
     photons: Vec<Photon>,
-    /// `photons[i].position` by coordinate, for the scan of the candidates; [`LANES`] entries
-    /// of padding at the end so that a block read never runs out of bounds.
-    xs: Vec<f32>,
-    ys: Vec<f32>,
-    zs: Vec<f32>,
-    /// `photons[i]`'s flux and incoming side, for the density estimate.
-    fluxes: Vec<FluxRecord>,
+    /// `photons` as columns (position, flux, incoming direction), for the scan of the
+    /// candidates and the density estimate.
+    columns: Columns,
     /// Bucket `b` holds `photons[start[b]..start[b + 1]]`; `buckets + 1` entries.
     start: Vec<u32>,
     /// Scratch: the bucket of each input photon.
@@ -123,10 +119,7 @@ impl HashGrid {
             },
             cell_size: 1.0,
             photons: Vec::new(),
-            xs: Vec::new(),
-            ys: Vec::new(),
-            zs: Vec::new(),
-            fluxes: Vec::new(),
+            columns: Columns::default(),
             start: vec![0, 0],
             bucket_of: Vec::new(),
         }
@@ -199,29 +192,35 @@ impl HashGrid {
         // 3. Canonical order inside each bucket (see the module documentation).
         sort_buckets(&mut self.photons, &self.start);
 
-        // 4. The coordinates for the candidate scan (padded) and the flux records.
+        // 4. The columns, in one parallel pass over chunks of the photons.
         let n = self.photons.len();
-        let photons = &self.photons;
-        let coordinate = |v: &mut Vec<f32>, axis: usize| {
-            v.clear();
-            v.par_extend(
-                photons
-                    .par_iter()
-                    .with_min_len(PARALLEL_MIN)
-                    .map(|p| p.position[axis]),
-            );
-            v.resize(n + LANES, f32::INFINITY);
-        };
-        coordinate(&mut self.xs, 0);
-        coordinate(&mut self.ys, 1);
-        coordinate(&mut self.zs, 2);
-        self.fluxes.clear();
-        self.fluxes.par_extend(
-            photons
-                .par_iter()
-                .with_min_len(PARALLEL_MIN)
-                .map(FluxRecord::from),
-        );
+        let Columns {
+            position: [x, y, z],
+            flux: [r, g, b],
+            wi: [u, v, w],
+        } = &mut self.columns;
+        let mut columns = [x, y, z, r, g, b, u, v, w];
+        for (k, column) in columns.iter_mut().enumerate() {
+            // Only growth writes here (the vectors are reused); the pass overwrites 0..n.
+            column.resize(n + LANES, 0.0);
+            let padding = if k < 3 { f32::INFINITY } else { 0.0 };
+            column[n..].fill(padding);
+        }
+        const CHUNK: usize = 1 << 12;
+        let mut chunks = columns.map(|c| c[..n].chunks_mut(CHUNK));
+        let tasks: Vec<_> = self
+            .photons
+            .chunks(CHUNK)
+            .map(|photons| (photons, chunks.each_mut().map(|c| c.next().unwrap())))
+            .collect();
+        tasks.into_par_iter().for_each(|(photons, out)| {
+            for (i, photon) in photons.iter().enumerate() {
+                let values = [photon.position, photon.flux, photon.wi_unfolded()];
+                for (k, value) in values.iter().flat_map(|v| v.to_array()).enumerate() {
+                    out[k][i] = value;
+                }
+            }
+        });
     }
 
     /// Calls `f(photon, d²)` for every photon within distance `r` of `p` (`d² <= r²`),
@@ -236,11 +235,50 @@ impl HashGrid {
     }
 
     /// [`HashGrid::for_each_in_radius`] handing out only what a density estimate reads, the
-    /// flux and the incoming side ([`FluxRecord`]): 16-byte records, four to a cache line,
-    /// so the photons found cost half the memory traffic of whole records.
+    /// flux and the incoming side ([`FluxRecord`]).
     #[inline]
     pub fn for_each_flux_in_radius(&self, p: Vec3, r: f32, mut f: impl FnMut(&FluxRecord, f32)) {
-        self.query(p, r, |i, d2| f(&self.fluxes[i], d2));
+        self.query(p, r, |i, d2| f(&FluxRecord::from(&self.photons[i]), d2));
+    }
+
+    /// The kernel-weighted flux of the photons within `r` of `p` that arrived from the side
+    /// `n` points to: sum over those photons of Phi_p k(d_p²) (`kernel` of radius `r`), the
+    /// sum of a density estimate. Photons with `wi . n <= 0` are left out
+    /// ([`FluxRecord::arrived_from`]).
+    ///
+    /// The usual query (at most 27 cells) sums 8 candidates at once with no branch per
+    /// photon; the sum is formed per lane, so it equals the sequential sum over
+    /// [`HashGrid::for_each_flux_in_radius`] up to rounding.
+    #[inline]
+    pub fn kernel_flux(&self, p: Vec3, r: f32, n: Vec3, kernel: &Kernel) -> Vec3 {
+        let Some((lo, hi, cells)) = self.cell_range(p, r) else {
+            return Vec3::ZERO;
+        };
+        if cells > SMALL_QUERY as i64 {
+            let mut sum = Vec3::ZERO;
+            self.for_each_flux_in_radius(p, r, |photon, d2| {
+                if photon.arrived_from(n) {
+                    sum += photon.flux * kernel.weight(d2);
+                }
+            });
+            return sum;
+        }
+        let (norm, slope) = kernel.coefficients();
+        let q = FluxQuery {
+            p,
+            n,
+            r2: r * r,
+            norm,
+            slope,
+        };
+        let mut sum = FluxSum::new();
+        for range in self.bucket_runs(lo, hi).iter() {
+            let blocks = self
+                .columns
+                .blocks(range.start, range.len().div_ceil(LANES));
+            blocks.for_each(|j, block| sum.add(block, range.len() - j * LANES, &q));
+        }
+        sum.total()
     }
 
     /// Calls `f(i, d²)` for the stored index `i` of every photon within `r` of `p`.
@@ -252,7 +290,9 @@ impl HashGrid {
         };
 
         if cells <= SMALL_QUERY as i64 {
-            self.for_each_distinct_bucket(lo, hi, |range| self.scan(range, p, r2, &mut f));
+            for range in self.bucket_runs(lo, hi).iter() {
+                self.scan(range, p, r2, &mut f);
+            }
         } else if cells >= self.hash.buckets as i64 {
             // The sphere covers more cells than there are buckets: scan every photon once.
             self.scan(0..self.photons.len(), p, r2, &mut f);
@@ -287,9 +327,9 @@ impl HashGrid {
         let mut i = range.start;
         while i < range.end {
             let block = Block {
-                xs: self.xs[i..i + LANES].try_into().unwrap(),
-                ys: self.ys[i..i + LANES].try_into().unwrap(),
-                zs: self.zs[i..i + LANES].try_into().unwrap(),
+                xs: self.columns.position[0][i..i + LANES].try_into().unwrap(),
+                ys: self.columns.position[1][i..i + LANES].try_into().unwrap(),
+                zs: self.columns.position[2][i..i + LANES].try_into().unwrap(),
             };
             let (mut inside, d2) = block_distances(block, p, r2);
             let valid = (range.end - i).min(LANES);
@@ -303,20 +343,21 @@ impl HashGrid {
         }
     }
 
-    /// Calls `f` with the stored ranges of the distinct buckets of the cells `lo..=hi` (at
-    /// most [`SMALL_QUERY`] cells), in the order of the cells: several cells may hash to one
+    /// The stored ranges of the distinct buckets of the cells `lo..=hi` (at most
+    /// [`SMALL_QUERY`] cells), in the order of the cells: several cells may hash to one
     /// bucket, which is visited once (the few buckets seen are remembered in a stack array).
     ///
     /// Along x the cells of a row are consecutive buckets ([`CellHash::bucket`]), and
     /// consecutive buckets are consecutive in the photon array, so a run of new buckets is
-    /// handed out as one range: the photons are the same, in the same order, with fewer
-    /// bucket lookups and partial blocks.
+    /// one range: the photons are the same, in the same order, with fewer bucket lookups and
+    /// partial blocks. Returned in a stack array rather than through a callback, so that the
+    /// caller's scan stays one inlined loop.
     #[inline]
-    fn for_each_distinct_bucket(&self, lo: IVec3, hi: IVec3, mut f: impl FnMut(Range<usize>)) {
+    fn bucket_runs(&self, lo: IVec3, hi: IVec3) -> Runs {
+        let mut runs = Runs::default();
         // Usually the rows' runs of buckets are disjoint and none wraps around the end of
-        // the table: then each row is one run, handed out whole, with no per-bucket
-        // bookkeeping (and no unpredictable branch). This is what the general walk below
-        // does in that case, in the same order.
+        // the table: then each row is one run, with no per-bucket bookkeeping (and no
+        // unpredictable branch). This is what the general walk below gives in that case.
         let buckets = self.hash.buckets as usize;
         let len = (hi.x - lo.x) as usize + 1;
         let mut rows = [0usize; SMALL_QUERY];
@@ -337,42 +378,40 @@ impl HashGrid {
         }
         if !clash {
             for &row in rows {
-                f(self.buckets(row..row + len));
+                runs.push(self.buckets(row..row + len));
             }
-            return;
+            return runs;
         }
 
         let mut seen = [0usize; SMALL_QUERY];
         let mut n_seen = 0;
         let mask = self.hash.buckets as usize - 1;
-        for z in lo.z..=hi.z {
-            for y in lo.y..=hi.y {
-                let first = self.hash.bucket(IVec3::new(lo.x, y, z));
-                // The pending run of new, consecutive buckets, [start, end).
-                let mut run: Option<(usize, usize)> = None;
-                for dx in 0..=(hi.x - lo.x) as usize {
-                    let b = (first + dx) & mask;
-                    let new = !seen[..n_seen].contains(&b);
-                    if new {
-                        seen[n_seen] = b;
-                        n_seen += 1;
-                    }
-                    run = match run {
-                        // b == end also excludes the wrap from the last bucket to bucket 0.
-                        Some((start, end)) if new && b == end => Some((start, b + 1)),
-                        pending => {
-                            if let Some((start, end)) = pending {
-                                f(self.buckets(start..end));
-                            }
-                            new.then_some((b, b + 1))
+        for &first in rows {
+            // The pending run of new, consecutive buckets, [start, end).
+            let mut run: Option<(usize, usize)> = None;
+            for dx in 0..len {
+                let b = (first + dx) & mask;
+                let new = !seen[..n_seen].contains(&b);
+                if new {
+                    seen[n_seen] = b;
+                    n_seen += 1;
+                }
+                run = match run {
+                    // b == end also excludes the wrap from the last bucket to bucket 0.
+                    Some((start, end)) if new && b == end => Some((start, b + 1)),
+                    pending => {
+                        if let Some((start, end)) = pending {
+                            runs.push(self.buckets(start..end));
                         }
-                    };
-                }
-                if let Some((start, end)) = run {
-                    f(self.buckets(start..end));
-                }
+                        new.then_some((b, b + 1))
+                    }
+                };
+            }
+            if let Some((start, end)) = run {
+                runs.push(self.buckets(start..end));
             }
         }
+        runs
     }
 
     /// The cells (lowest, highest, count) that the sphere of radius `r` around `p` overlaps;
@@ -435,10 +474,31 @@ impl HashGrid {
     /// Bytes allocated by the grid.
     pub fn memory_bytes(&self) -> usize {
         self.photons.capacity() * std::mem::size_of::<Photon>()
-            + (self.xs.capacity() + self.ys.capacity() + self.zs.capacity())
-                * std::mem::size_of::<f32>()
-            + self.fluxes.capacity() * std::mem::size_of::<FluxRecord>()
+            + self.columns.memory_bytes()
             + (self.start.capacity() + self.bucket_of.capacity()) * std::mem::size_of::<u32>()
+    }
+}
+
+/// Up to [`SMALL_QUERY`] ranges of stored photons, on the stack.
+#[derive(Clone, Copy, Debug, Default)]
+struct Runs {
+    ranges: [(u32, u32); SMALL_QUERY],
+    len: usize,
+}
+
+impl Runs {
+    /// Appends a range (the grid stores fewer than `u32::MAX` photons).
+    #[inline]
+    fn push(&mut self, range: Range<usize>) {
+        self.ranges[self.len] = (range.start as u32, range.end as u32);
+        self.len += 1;
+    }
+
+    #[inline]
+    fn iter(&self) -> impl Iterator<Item = Range<usize>> + '_ {
+        self.ranges[..self.len]
+            .iter()
+            .map(|&(start, end)| start as usize..end as usize)
     }
 }
 

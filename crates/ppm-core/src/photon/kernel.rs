@@ -49,6 +49,12 @@ impl Kernel {
         self.r2
     }
 
+    /// `(norm, slope)` with `weight(d²) = max(norm - slope d², 0)` inside the disc.
+    #[inline]
+    pub fn coefficients(&self) -> (f32, f32) {
+        (self.norm, self.slope)
+    }
+
     /// The weight of a photon at squared distance `d2`; zero outside the disc.
     #[inline]
     pub fn weight(&self, d2: f32) -> f32 {

@@ -6,10 +6,12 @@
 //!    [`PhotonBuffer`] (allocated once, cleared every iteration, grown and redone on overflow);
 //! 2. [`HashGrid::build`] sorts that iteration's photons into hashed cells of side `2 r`, in
 //!    an order independent of thread scheduling;
-//! 3. each gather point calls [`HashGrid::for_each_in_radius`] and weights photons with the
-//!    normalised [`Kernel`].
+//! 3. each gather point asks [`HashGrid::kernel_flux`] for the flux of the photons around it
+//!    weighted by the normalised [`Kernel`] ([`HashGrid::for_each_in_radius`] hands out the
+//!    photons themselves).
 
 mod buffer;
+mod gather;
 mod grid;
 mod kernel;
 mod record;

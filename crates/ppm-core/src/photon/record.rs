@@ -74,6 +74,13 @@ impl Photon {
         FluxRecord::from(self).arrived_from(n)
     }
 
+    /// The incoming direction as stored, decoded but not normalised: the vector whose dot
+    /// product with a normal decides [`Photon::arrived_from`].
+    #[inline]
+    pub(crate) fn wi_unfolded(&self) -> Vec3 {
+        oct_unfold(self.wi)
+    }
+
     /// A total order key: the path index first, then every other bit of the record.
     ///
     /// Two photons with equal keys are identical, so sorting by this key gives an order that

@@ -48,13 +48,7 @@ pub fn density_estimate(ctx: &GatherContext<'_>, hit: &Hit, wo: Vec3, albedo: Ve
     } else {
         -hit.ng
     };
-    let mut sum = Vec3::ZERO;
-    ctx.grid
-        .for_each_flux_in_radius(hit.p, ctx.radius, |photon, d2| {
-            if photon.arrived_from(n_view) {
-                sum += photon.flux * ctx.kernel.weight(d2);
-            }
-        });
+    let sum = ctx.grid.kernel_flux(hit.p, ctx.radius, n_view, &ctx.kernel);
     sum * (albedo * (std::f32::consts::FRAC_1_PI * ctx.inv_paths))
 }
 
