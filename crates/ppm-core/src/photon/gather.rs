@@ -33,20 +33,16 @@ pub(super) struct Columns {
 }
 
 impl Columns {
-    /// The candidates `start..start + LANES * blocks` as `blocks` blocks (they may run into
-    /// the next bucket or the padding: [`FluxSum::add`] masks them off).
+    /// All columns, for block reads.
     #[inline(always)]
-    pub(super) fn blocks(&self, start: usize, blocks: usize) -> Blocks<'_> {
-        fn column(c: &[Vec<f32>; 3], start: usize, end: usize) -> [&[f32]; 3] {
-            c.each_ref().map(|c| &c[start..end])
-        }
-        let end = start + LANES * blocks;
-        Blocks {
-            position: column(&self.position, start, end),
-            flux: column(&self.flux, start, end),
-            wi: column(&self.wi, start, end),
-            blocks,
-        }
+    pub(super) fn view(&self) -> ColumnsView<'_> {
+        let columns = [&self.position, &self.flux, &self.wi].map(|c| c.each_ref());
+        let [[x, y, z], [r, g, b], [u, v, w]] = columns;
+        let all = [x, y, z, r, g, b, u, v, w].map(Vec::as_slice);
+        // Equal lengths let the compiler check a block read against one of them only.
+        let len = all[0].len();
+        assert!(all.iter().all(|c| c.len() == len));
+        ColumnsView { all }
     }
 
     /// Bytes allocated.
@@ -59,35 +55,23 @@ impl Columns {
     }
 }
 
-/// Consecutive blocks of candidates, column by column (each column `LANES * blocks` long).
-pub(super) struct Blocks<'a> {
-    position: [&'a [f32]; 3],
-    flux: [&'a [f32]; 3],
-    wi: [&'a [f32]; 3],
-    blocks: usize,
+/// The columns of a [`Columns`], all equally long.
+pub(super) struct ColumnsView<'a> {
+    /// Position x, y, z, flux r, g, b, direction x, y, z.
+    all: [&'a [f32]; 9],
 }
 
-impl<'a> Blocks<'a> {
-    /// Calls `f` with every block in order.
+impl<'a> ColumnsView<'a> {
+    /// The candidates `i..i + LANES` (they may run into the next bucket or the padding:
+    /// [`FluxSum::add`] masks them off).
     #[inline(always)]
-    pub(super) fn for_each(&self, mut f: impl FnMut(usize, Block<'a>)) {
-        let len = LANES * self.blocks;
-        // Lets the compiler drop the bounds checks in the loop.
-        let columns = self.position.iter().chain(&self.flux).chain(&self.wi);
-        assert!(columns.into_iter().all(|c| c.len() == len));
-        for j in 0..self.blocks {
-            let o = j * LANES;
-            let block = |c: &[&'a [f32]; 3]| {
-                c.map(|c| -> &'a [f32; LANES] { c[o..o + LANES].try_into().unwrap() })
-            };
-            f(
-                j,
-                Block {
-                    position: block(&self.position),
-                    flux: block(&self.flux),
-                    wi: block(&self.wi),
-                },
-            );
+    pub(super) fn block(&self, i: usize) -> Block<'a> {
+        let lanes =
+            |k: usize| -> &'a [f32; LANES] { self.all[k][i..i + LANES].try_into().unwrap() };
+        Block {
+            position: [lanes(0), lanes(1), lanes(2)],
+            flux: [lanes(3), lanes(4), lanes(5)],
+            wi: [lanes(6), lanes(7), lanes(8)],
         }
     }
 }

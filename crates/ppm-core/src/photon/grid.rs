@@ -271,12 +271,22 @@ impl HashGrid {
             norm,
             slope,
         };
+        let runs = self.bucket_runs(lo, hi);
+        let columns = self.columns.view();
         let mut sum = FluxSum::new();
-        for range in self.bucket_runs(lo, hi).iter() {
-            let blocks = self
-                .columns
-                .blocks(range.start, range.len().div_ceil(LANES));
-            blocks.for_each(|j, block| sum.add(block, range.len() - j * LANES, &q));
+        // One loop over the blocks of all runs; stepping to the next run is a select rather
+        // than a branch (which the varying run lengths would mispredict).
+        let (mut run, (mut i, mut end)) = (0, runs.get(0));
+        for _ in 0..runs.blocks {
+            sum.add(columns.block(i), end - i, &q);
+            i += LANES;
+            let next = (i >= end) as usize;
+            run += next;
+            let (next_start, next_end) = runs.get(run);
+            // All ones when moving on (branch-free, so no misprediction per run).
+            let take = next.wrapping_neg();
+            i = (next_start & take) | (i & !take);
+            end = (next_end & take) | (end & !take);
         }
         sum.total()
     }
@@ -352,7 +362,7 @@ impl HashGrid {
     /// one range: the photons are the same, in the same order, with fewer bucket lookups and
     /// partial blocks. Returned in a stack array rather than through a callback, so that the
     /// caller's scan stays one inlined loop.
-    #[inline]
+    #[inline(always)]
     fn bucket_runs(&self, lo: IVec3, hi: IVec3) -> Runs {
         let mut runs = Runs::default();
         // Usually the rows' runs of buckets are disjoint and none wraps around the end of
@@ -479,19 +489,30 @@ impl HashGrid {
     }
 }
 
-/// Up to [`SMALL_QUERY`] ranges of stored photons, on the stack.
+/// Up to [`SMALL_QUERY`] non-empty ranges of stored photons, on the stack.
 #[derive(Clone, Copy, Debug, Default)]
 struct Runs {
-    ranges: [(u32, u32); SMALL_QUERY],
+    /// One more than can be used: `get(len)` reads an empty range.
+    ranges: [(u32, u32); SMALL_QUERY + 1],
     len: usize,
+    /// Blocks of [`LANES`] candidates that cover all ranges, each range on its own.
+    blocks: usize,
 }
 
 impl Runs {
-    /// Appends a range (the grid stores fewer than `u32::MAX` photons).
+    /// Appends a range unless it is empty (the grid stores fewer than `u32::MAX` photons).
     #[inline]
     fn push(&mut self, range: Range<usize>) {
         self.ranges[self.len] = (range.start as u32, range.end as u32);
-        self.len += 1;
+        self.len += !range.is_empty() as usize;
+        self.blocks += range.len().div_ceil(LANES);
+    }
+
+    /// Range `k` as (start, end); empty for `k == len`.
+    #[inline(always)]
+    fn get(&self, k: usize) -> (usize, usize) {
+        let (start, end) = self.ranges[k.min(SMALL_QUERY)];
+        (start as usize, end as usize)
     }
 
     #[inline]
