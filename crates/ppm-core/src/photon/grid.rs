@@ -334,14 +334,10 @@ impl HashGrid {
     /// bucket).
     #[inline(always)]
     fn scan(&self, range: Range<usize>, p: Vec3, r2: f32, f: &mut impl FnMut(usize, f32)) {
+        let columns = self.columns.view();
         let mut i = range.start;
         while i < range.end {
-            let block = Block {
-                xs: self.columns.position[0][i..i + LANES].try_into().unwrap(),
-                ys: self.columns.position[1][i..i + LANES].try_into().unwrap(),
-                zs: self.columns.position[2][i..i + LANES].try_into().unwrap(),
-            };
-            let (mut inside, d2) = block_distances(block, p, r2);
+            let (mut inside, d2) = block_distances(columns.block(i).position, p, r2);
             let valid = (range.end - i).min(LANES);
             inside &= ((1u64 << valid) - 1) as u32;
             while inside != 0 {
@@ -523,13 +519,8 @@ impl Runs {
     }
 }
 
-/// The coordinates of [`LANES`] consecutive candidates.
-#[derive(Clone, Copy)]
-struct Block<'a> {
-    xs: &'a [f32; LANES],
-    ys: &'a [f32; LANES],
-    zs: &'a [f32; LANES],
-}
+/// The coordinates of [`LANES`] consecutive candidates, one array per axis.
+type Positions<'a> = [&'a [f32; LANES]; 3];
 
 /// The squared distances from `p` of the [`LANES`] candidates `(xs[k], ys[k], zs[k])`, and the
 /// mask of those with `d² <= r2` (bit k for candidate k).
@@ -538,14 +529,14 @@ struct Block<'a> {
 /// `Vec3::distance_squared` computes it: the AVX version and the portable one agree bit for
 /// bit (tested), so results do not depend on how the crate was compiled.
 #[inline(always)]
-fn block_distances(block: Block<'_>, p: Vec3, r2: f32) -> (u32, [f32; LANES]) {
+fn block_distances(position: Positions<'_>, p: Vec3, r2: f32) -> (u32, [f32; LANES]) {
     #[cfg(all(target_arch = "x86_64", target_feature = "avx"))]
     {
-        block_distances_avx(block, p, r2)
+        block_distances_avx(position, p, r2)
     }
     #[cfg(not(all(target_arch = "x86_64", target_feature = "avx")))]
     {
-        block_distances_portable(block, p, r2)
+        block_distances_portable(position, p, r2)
     }
 }
 
@@ -556,11 +547,12 @@ fn block_distances(block: Block<'_>, p: Vec3, r2: f32) -> (u32, [f32; LANES]) {
     allow(dead_code) // only the tests call it there
 )]
 #[inline(always)]
-fn block_distances_portable(block: Block<'_>, p: Vec3, r2: f32) -> (u32, [f32; LANES]) {
+fn block_distances_portable(position: Positions<'_>, p: Vec3, r2: f32) -> (u32, [f32; LANES]) {
+    let [xs, ys, zs] = position;
     let mut d2 = [0.0f32; LANES];
     let mut inside = 0u32;
     for (k, d2k) in d2.iter_mut().enumerate() {
-        let (dx, dy, dz) = (block.xs[k] - p.x, block.ys[k] - p.y, block.zs[k] - p.z);
+        let (dx, dy, dz) = (xs[k] - p.x, ys[k] - p.y, zs[k] - p.z);
         *d2k = dx * dx + dy * dy + dz * dz;
         inside |= ((*d2k <= r2) as u32) << k;
     }
@@ -571,16 +563,17 @@ fn block_distances_portable(block: Block<'_>, p: Vec3, r2: f32) -> (u32, [f32; L
 /// operation for all lanes, and the mask straight from the comparison (`vmovmskps`).
 #[cfg(all(target_arch = "x86_64", target_feature = "avx"))]
 #[inline(always)]
-fn block_distances_avx(block: Block<'_>, p: Vec3, r2: f32) -> (u32, [f32; LANES]) {
+fn block_distances_avx(position: Positions<'_>, p: Vec3, r2: f32) -> (u32, [f32; LANES]) {
     use std::arch::x86_64::*;
     const _: () = assert!(LANES == 8, "one __m256 holds the block");
+    let [xs, ys, zs] = position;
     let mut d2 = [0.0f32; LANES];
     // SAFETY: AVX is enabled for this whole build (cfg above), and every load and store
     // reads or writes exactly one `[f32; 8]` through a valid reference (unaligned access).
     let inside = unsafe {
-        let dx = _mm256_sub_ps(_mm256_loadu_ps(block.xs.as_ptr()), _mm256_set1_ps(p.x));
-        let dy = _mm256_sub_ps(_mm256_loadu_ps(block.ys.as_ptr()), _mm256_set1_ps(p.y));
-        let dz = _mm256_sub_ps(_mm256_loadu_ps(block.zs.as_ptr()), _mm256_set1_ps(p.z));
+        let dx = _mm256_sub_ps(_mm256_loadu_ps(xs.as_ptr()), _mm256_set1_ps(p.x));
+        let dy = _mm256_sub_ps(_mm256_loadu_ps(ys.as_ptr()), _mm256_set1_ps(p.y));
+        let dz = _mm256_sub_ps(_mm256_loadu_ps(zs.as_ptr()), _mm256_set1_ps(p.z));
         let sum = _mm256_add_ps(
             _mm256_add_ps(_mm256_mul_ps(dx, dx), _mm256_mul_ps(dy, dy)),
             _mm256_mul_ps(dz, dz),
@@ -717,13 +710,9 @@ mod tests {
             } else {
                 0.1 * scale * scale
             };
-            let block = Block {
-                xs: &xyz[0],
-                ys: &xyz[1],
-                zs: &xyz[2],
-            };
-            let (mask, d2) = block_distances(block, p, r2);
-            let (mask_portable, d2_portable) = block_distances_portable(block, p, r2);
+            let position = xyz.each_ref();
+            let (mask, d2) = block_distances(position, p, r2);
+            let (mask_portable, d2_portable) = block_distances_portable(position, p, r2);
             assert_eq!(mask, mask_portable, "trial {trial}");
             for k in 0..LANES {
                 let expected = Vec3::new(xyz[0][k], xyz[1][k], xyz[2][k]).distance_squared(p);

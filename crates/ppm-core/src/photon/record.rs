@@ -104,7 +104,7 @@ impl Photon {
 }
 
 /// What a density estimate reads of a photon inside the gather disc: its flux and the side
-/// it arrived from. 16 bytes, four to a cache line (see [`super::HashGrid::for_each_flux_in_radius`]).
+/// it arrived from, 16 bytes (see [`super::HashGrid::for_each_flux_in_radius`]).
 #[repr(C, align(16))]
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FluxRecord {
