@@ -64,6 +64,11 @@ const STACK_SIZE: usize = 64;
 /// Box exits are scaled by this (Ize 2013: three roundings in (bound - o) * inv_dir).
 const SLAB_SCALE: f32 = 1.0 + 2.0 * gamma(3);
 
+/// Primitive tests get their bound widened by this: the final comparison is on the returned t
+/// itself (`Closest::improves`, or `t < t_max` for shadow rays), so that exactly equal
+/// distances are resolved the same way everywhere.
+const WIDEN: f32 = 1.0 + 4.0 * f32::EPSILON;
+
 /// The scene's geometry and its acceleration structure. Immutable once built.
 pub struct Geometry {
     /// The 4-wide BVH; the root is node 0 (no nodes without primitives).
@@ -168,8 +173,7 @@ impl TraversalRay {
     /// Intersects a sphere: t in (0, t_max].
     #[inline(always)]
     fn sphere(&self, s: &SphereRecord, t_max: f32) -> Option<f32> {
-        // Slightly widened bound: the final comparison is on the returned t itself.
-        let bound = t_max * (1.0 + 4.0 * f32::EPSILON);
+        let bound = t_max * WIDEN;
         intersect_sphere(s.center, s.radius, self.origin3, self.dir, bound)
     }
 }
@@ -275,14 +279,13 @@ impl Geometry {
             found: false,
         };
         self.traverse(&tr, ray.t_max, |leaf, t_max| {
-            for packet in &self.packets[leaf.packets.0 as usize..leaf.packets.1 as usize] {
-                // Slightly widened bound: the final comparison is on the returned t itself.
-                let bound = best.t * (1.0 + 4.0 * f32::EPSILON);
+            for packet in self.leaf_packets(leaf) {
+                let bound = best.t * WIDEN;
                 packet.intersect(&tr.shear, &tr.packet, bound, |lane, t, b1, b2| {
                     best.offer(t, packet.id[lane], Vec2::new(b1, b2));
                 });
             }
-            for s in &self.sphere_records[leaf.spheres.0 as usize..leaf.spheres.1 as usize] {
+            for s in self.leaf_spheres(leaf) {
                 if let Some(t) = tr.sphere(s, best.t) {
                     best.offer(t, s.id, Vec2::ZERO);
                 }
@@ -297,10 +300,10 @@ impl Geometry {
     #[inline]
     pub fn occluded(&self, ray: &Ray) -> bool {
         let tr = TraversalRay::new(ray);
-        let bound = ray.t_max * (1.0 + 4.0 * f32::EPSILON);
+        let bound = ray.t_max * WIDEN;
         self.traverse(&tr, ray.t_max, |leaf, _| {
             let mut blocked = false;
-            for packet in &self.packets[leaf.packets.0 as usize..leaf.packets.1 as usize] {
+            for packet in self.leaf_packets(leaf) {
                 packet.intersect(&tr.shear, &tr.packet, bound, |_, t, _, _| {
                     blocked |= t < ray.t_max;
                 });
@@ -308,10 +311,22 @@ impl Geometry {
                     return true;
                 }
             }
-            self.sphere_records[leaf.spheres.0 as usize..leaf.spheres.1 as usize]
+            self.leaf_spheres(leaf)
                 .iter()
                 .any(|s| tr.sphere(s, ray.t_max).is_some_and(|t| t < ray.t_max))
         })
+    }
+
+    /// The triangle packets of a leaf.
+    #[inline(always)]
+    fn leaf_packets(&self, leaf: &Leaf) -> &[TrianglePacket] {
+        &self.packets[leaf.packets.0 as usize..leaf.packets.1 as usize]
+    }
+
+    /// The spheres of a leaf.
+    #[inline(always)]
+    fn leaf_spheres(&self, leaf: &Leaf) -> &[SphereRecord] {
+        &self.sphere_records[leaf.spheres.0 as usize..leaf.spheres.1 as usize]
     }
 
     /// Stack traversal, nearest child first. `leaf(leaf, t_max)` tests the primitives of a
@@ -405,7 +420,7 @@ impl Geometry {
         };
         for (id, tri) in self.triangles.iter().enumerate() {
             let [v0, v1, v2] = tri.v;
-            let bound = best.t * (1.0 + 4.0 * f32::EPSILON);
+            let bound = best.t * WIDEN;
             if let Some((t, b1, b2)) = tr.shear.intersect(v0, v1, v2, bound) {
                 best.offer(t, id as u32, Vec2::new(b1, b2));
             }
