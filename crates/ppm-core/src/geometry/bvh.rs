@@ -122,10 +122,10 @@ impl Closest {
 /// Per-ray constants of the traversal.
 struct TraversalRay {
     origin: Vec3A,
+    /// 1 / dir per axis, finite (see `new`).
     inv_dir: Vec3A,
     shear: ShearedRay,
     packet: PacketRay,
-    origin3: Vec3,
     dir: Vec3,
 }
 
@@ -148,7 +148,6 @@ impl TraversalRay {
             inv_dir: Vec3A::new(inv(ray.dir.x), inv(ray.dir.y), inv(ray.dir.z)),
             packet: PacketRay::new(&shear),
             shear,
-            origin3: ray.origin,
             dir: ray.dir,
         }
     }
@@ -174,7 +173,7 @@ impl TraversalRay {
     #[inline(always)]
     fn sphere(&self, s: &SphereRecord, t_max: f32) -> Option<f32> {
         let bound = t_max * WIDEN;
-        intersect_sphere(s.center, s.radius, self.origin3, self.dir, bound)
+        intersect_sphere(s.center, s.radius, self.origin.into(), self.dir, bound)
     }
 }
 
