@@ -165,7 +165,7 @@ impl SceneBuilder {
 
 impl Scene {
     /// Closest hit along a ray.
-    #[inline]
+    #[inline(always)]
     pub fn intersect(&self, ray: &Ray) -> Option<Hit> {
         self.geometry.intersect(ray)
     }

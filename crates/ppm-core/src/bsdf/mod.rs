@@ -113,8 +113,9 @@ impl Bsdf {
     }
 
     /// Samples `wi` given `wo`; `u_lobe` chooses a lobe, `u` the direction within it.
-    /// `None` when the sample carries no energy (e.g. below the horizon).
-    #[inline]
+    /// `None` when the sample carries no energy (e.g. below the horizon). Always inlined
+    /// into the tracers (a dispatch on the variant they often already know).
+    #[inline(always)]
     pub fn sample(
         &self,
         wo: Vec3,

@@ -270,8 +270,10 @@ impl Geometry {
         }
     }
 
-    /// Closest hit along the ray.
-    #[inline]
+    /// Closest hit along the ray. Always inlined: the passes call it in their hot loops,
+    /// and whether LLVM inlines it otherwise depends on how the crate is split into codegen
+    /// units (outlined, an iteration took 2-3% more instructions).
+    #[inline(always)]
     pub fn intersect(&self, ray: &Ray) -> Option<Hit> {
         let tr = TraversalRay::new(ray);
         let mut best = Closest {
@@ -442,7 +444,7 @@ impl Geometry {
     }
 
     /// Everything the integrators need about the hit on primitive `prim` at distance `t`.
-    #[inline]
+    #[inline(always)]
     fn hit(&self, ray: &Ray, t: f32, prim: u32, uv: Vec2) -> Hit {
         let n_tri = self.triangles.len() as u32;
         if prim < n_tri {
