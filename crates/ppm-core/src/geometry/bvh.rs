@@ -1,10 +1,11 @@
 //! All primitives of a scene under one BVH: closest-hit and any-hit queries.
 //!
 //! obvhs builds a binary BVH (PLOC, then reinsertion and SAH leaf collapsing, at most 2
-//! primitives per leaf); we collapse it into a 4-wide BVH (each node opens its children with
-//! the largest surface area until it holds four, as Embree's BVH4 does) and traverse that with
-//! our own loop: one node tests the boxes of all four children at once, and a leaf tests its
-//! triangles as one 4-wide packet ([`TrianglePacket`]), lane for lane the scalar watertight test.
+//! primitives per leaf); we collapse it into an 8-wide BVH (each node opens its children with
+//! the largest surface area until it holds eight, as Embree's BVH8 does) and traverse that
+//! with our own loop: one node tests the boxes of all eight children at once (one AVX
+//! operation per step, or two 4-wide halves without AVX), and a leaf tests its triangles as
+//! one 4-wide packet ([`TrianglePacket`]), lane for lane the scalar watertight test.
 //!
 //! The slab test is robust: the exit distance of every box is scaled by 1 + 2 gamma(3) (Ize
 //! 2013, "Robust BVH Ray Traversal"), which covers the three roundings of (bound - o) / d, and a
@@ -39,13 +40,17 @@ struct SphereRecord {
 /// A child reference with this bit set names a leaf (the rest is its index), else a node.
 const LEAF: u32 = 1 << 31;
 
-/// A node of the 4-wide BVH: the boxes of its children in structure-of-arrays form.
+/// Children per node.
+const WIDTH: usize = 8;
+
+/// A node of the 8-wide BVH: the boxes of its children in structure-of-arrays form.
 #[derive(Clone, Copy, Debug)]
-struct Node4 {
+#[repr(C, align(32))]
+struct Node {
     /// `min[axis]` / `max[axis]`: that coordinate of each child's box.
-    min: [Vec4; 3],
-    max: [Vec4; 3],
-    child: [u32; 4],
+    min: [[f32; WIDTH]; 3],
+    max: [[f32; WIDTH]; 3],
+    child: [u32; WIDTH],
     /// Bitmask of the children in use.
     valid: u32,
 }
@@ -61,7 +66,7 @@ struct Leaf {
 /// heap stack sized at build time.
 const STACK_SIZE: usize = 64;
 
-/// Stack size for trees of depth up to 5 (3 entries per level, plus one).
+/// Stack size for trees of depth up to 2 (WIDTH - 1 entries per level, plus one).
 const SMALL_STACK_SIZE: usize = 16;
 
 /// Box exits are scaled by this (Ize 2013: three roundings in (bound - o) * inv_dir).
@@ -74,8 +79,8 @@ const WIDEN: f32 = 1.0 + 4.0 * f32::EPSILON;
 
 /// The scene's geometry and its acceleration structure. Immutable once built.
 pub struct Geometry {
-    /// The 4-wide BVH; the root is node 0 (no nodes without primitives).
-    nodes: Vec<Node4>,
+    /// The 8-wide BVH; the root is node 0 (no nodes without primitives).
+    nodes: Vec<Node>,
     leaves: Vec<Leaf>,
     packets: Vec<TrianglePacket>,
     sphere_records: Vec<SphereRecord>,
@@ -155,21 +160,84 @@ impl TraversalRay {
         }
     }
 
-    /// The slab test of a node's four child boxes against [0, t_max]: the bitmask of the
-    /// children met and their entry distances.
+    /// The slab test of a node's child boxes against [0, t_max]: the bitmask of the children
+    /// met and their entry distances.
     #[inline(always)]
-    fn slab4(&self, node: &Node4, t_max: f32) -> (u32, Vec4) {
-        let axis = |a: usize| {
-            let (o, inv) = (Vec4::splat(self.origin[a]), Vec4::splat(self.inv_dir[a]));
-            let t0 = (node.min[a] - o) * inv;
-            let t1 = (node.max[a] - o) * inv;
-            (t0.min(t1), t0.max(t1))
+    fn slab(&self, node: &Node, t_max: f32) -> (u32, [f32; WIDTH]) {
+        #[cfg(all(target_arch = "x86_64", target_feature = "avx"))]
+        {
+            self.slab_avx(node, t_max)
+        }
+        #[cfg(not(all(target_arch = "x86_64", target_feature = "avx")))]
+        {
+            self.slab_portable(node, t_max)
+        }
+    }
+
+    /// [`TraversalRay::slab`] on two 4-wide halves (glam's `Vec4`: SSE on x86-64).
+    #[cfg_attr(
+        all(target_arch = "x86_64", target_feature = "avx"),
+        allow(dead_code) // only the tests call it there
+    )]
+    #[inline(always)]
+    fn slab_portable(&self, node: &Node, t_max: f32) -> (u32, [f32; WIDTH]) {
+        let mut met = 0;
+        let mut entry = [0.0; WIDTH];
+        for half in 0..2 {
+            let lanes = |bounds: &[f32; WIDTH]| Vec4::from_slice(&bounds[4 * half..4 * half + 4]);
+            let axis = |a: usize| {
+                let (o, inv) = (Vec4::splat(self.origin[a]), Vec4::splat(self.inv_dir[a]));
+                let t0 = (lanes(&node.min[a]) - o) * inv;
+                let t1 = (lanes(&node.max[a]) - o) * inv;
+                (t0.min(t1), t0.max(t1))
+            };
+            let ((near_x, far_x), (near_y, far_y), (near_z, far_z)) = (axis(0), axis(1), axis(2));
+            // No NaN can occur here (see `new`), so the SSE min/max (a < b ? a : b) are exact.
+            let t_near = near_x.max(near_y).max(near_z.max(Vec4::ZERO));
+            let t_far =
+                far_x.min(far_y).min(far_z.min(Vec4::splat(t_max))) * Vec4::splat(SLAB_SCALE);
+            met |= t_near.cmple(t_far).bitmask() << (4 * half);
+            t_near.write_to_slice(&mut entry[4 * half..4 * half + 4]);
+        }
+        (met & node.valid, entry)
+    }
+
+    /// [`TraversalRay::slab`] with 8-wide AVX: the same operations in the same order on all
+    /// eight lanes at once, so the same answer bit for bit.
+    #[cfg(all(target_arch = "x86_64", target_feature = "avx"))]
+    #[inline(always)]
+    fn slab_avx(&self, node: &Node, t_max: f32) -> (u32, [f32; WIDTH]) {
+        use std::arch::x86_64::*;
+        const _: () = assert!(WIDTH == 8, "one __m256 holds a node's lanes");
+        let mut entry = [0.0; WIDTH];
+        // SAFETY: AVX is enabled for this whole build (cfg above); every load and store reads
+        // or writes exactly one `[f32; 8]` through a valid reference (unaligned access).
+        let met = unsafe {
+            let axis = |a: usize| {
+                let o = _mm256_set1_ps(self.origin[a]);
+                let inv = _mm256_set1_ps(self.inv_dir[a]);
+                let t0 =
+                    _mm256_mul_ps(_mm256_sub_ps(_mm256_loadu_ps(node.min[a].as_ptr()), o), inv);
+                let t1 =
+                    _mm256_mul_ps(_mm256_sub_ps(_mm256_loadu_ps(node.max[a].as_ptr()), o), inv);
+                (_mm256_min_ps(t0, t1), _mm256_max_ps(t0, t1))
+            };
+            let ((near_x, far_x), (near_y, far_y), (near_z, far_z)) = (axis(0), axis(1), axis(2));
+            let t_near = _mm256_max_ps(
+                _mm256_max_ps(near_x, near_y),
+                _mm256_max_ps(near_z, _mm256_setzero_ps()),
+            );
+            let t_far = _mm256_mul_ps(
+                _mm256_min_ps(
+                    _mm256_min_ps(far_x, far_y),
+                    _mm256_min_ps(far_z, _mm256_set1_ps(t_max)),
+                ),
+                _mm256_set1_ps(SLAB_SCALE),
+            );
+            _mm256_storeu_ps(entry.as_mut_ptr(), t_near);
+            _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LE_OQ>(t_near, t_far)) as u32
         };
-        let ((near_x, far_x), (near_y, far_y), (near_z, far_z)) = (axis(0), axis(1), axis(2));
-        // No NaN can occur here (see `new`), so the SSE min/max (a < b ? a : b) are exact.
-        let t_near = near_x.max(near_y).max(near_z.max(Vec4::ZERO));
-        let t_far = far_x.min(far_y).min(far_z.min(Vec4::splat(t_max))) * Vec4::splat(SLAB_SCALE);
-        (t_near.cmple(t_far).bitmask() & node.valid, t_near)
+        (met & node.valid, entry)
     }
 
     /// Intersects a sphere: t in (0, t_max].
@@ -266,7 +334,7 @@ impl Geometry {
             spheres,
             skipped,
             bounds,
-            stack_size: 3 * wide.depth + 1,
+            stack_size: (WIDTH - 1) * wide.depth + 1,
         }
     }
 
@@ -377,7 +445,7 @@ impl Geometry {
                 }
             } else {
                 let node = &self.nodes[current as usize];
-                let (mut met, t_near) = tr.slab4(node, t_max);
+                let (mut met, t_near) = tr.slab(node, t_max);
                 if met != 0 {
                     let first = met.trailing_zeros() as usize;
                     met &= met - 1;
@@ -542,10 +610,10 @@ fn sphere_record(s: &Sphere, id: usize) -> SphereRecord {
     }
 }
 
-/// The 4-wide BVH being collapsed from obvhs's binary one.
+/// The 8-wide BVH being collapsed from obvhs's binary one.
 #[derive(Default)]
 struct WideBvh {
-    nodes: Vec<Node4>,
+    nodes: Vec<Node>,
     leaves: Vec<Leaf>,
     packets: Vec<TrianglePacket>,
     spheres: Vec<SphereRecord>,
@@ -559,7 +627,7 @@ impl WideBvh {
         if root.is_leaf() {
             // A single leaf still hangs below a node: traversal starts at a node.
             let leaf = self.leaf(bvh, 0, triangles, spheres);
-            let mut node = Node4::EMPTY;
+            let mut node = Node::EMPTY;
             node.set_child(0, &root.aabb, leaf);
             self.nodes.push(node);
             self.depth = 1;
@@ -580,8 +648,8 @@ impl WideBvh {
         self.depth = self.depth.max(depth);
         let first = bvh.nodes[index].first_index as usize;
         let mut children = vec![first, first + 1];
-        // Open the inner child with the largest surface area until there are four.
-        while children.len() < 4 {
+        // Open the inner child with the largest surface area until there are WIDTH.
+        while children.len() < WIDTH {
             let widest = (0..children.len())
                 .filter(|&i| !bvh.nodes[children[i]].is_leaf())
                 .max_by(|&a, &b| {
@@ -593,8 +661,8 @@ impl WideBvh {
             children.splice(i..=i, [pair, pair + 1]);
         }
         let slot = self.nodes.len();
-        self.nodes.push(Node4::EMPTY);
-        let mut node = Node4::EMPTY;
+        self.nodes.push(Node::EMPTY);
+        let mut node = Node::EMPTY;
         for (i, &c) in children.iter().enumerate() {
             let child = if bvh.nodes[c].is_leaf() {
                 self.leaf(bvh, c, triangles, spheres)
@@ -639,11 +707,11 @@ impl WideBvh {
     }
 }
 
-impl Node4 {
-    const EMPTY: Node4 = Node4 {
-        min: [Vec4::ZERO; 3],
-        max: [Vec4::ZERO; 3],
-        child: [0; 4],
+impl Node {
+    const EMPTY: Node = Node {
+        min: [[0.0; WIDTH]; 3],
+        max: [[0.0; WIDTH]; 3],
+        child: [0; WIDTH],
         valid: 0,
     };
 
@@ -670,15 +738,14 @@ mod tests {
         let mut rng = Rng::new(7, 0, 0);
         let mut point =
             || (Vec3::new(rng.uniform(), rng.uniform(), rng.uniform()) * 2.0 - 1.0) * 3.0;
-        let n = 60u32;
+        let n = 24u32;
         let positions: Vec<Vec3> = (0..3 * n).map(|_| point()).collect();
         let indices = (0..n).map(|i| [3 * i, 3 * i + 1, 3 * i + 2]).collect();
-        let spheres: Vec<Sphere> = (0..8).map(|_| Sphere::new(point(), 0.4, 0)).collect();
+        let spheres: Vec<Sphere> = (0..6).map(|_| Sphere::new(point(), 0.4, 0)).collect();
         let mut geometry = Geometry::new(&[TriangleMesh::new(positions, indices, 0)], &spheres);
-        assert!(
-            geometry.stack_size <= SMALL_STACK_SIZE,
-            "tree too deep for the test"
-        );
+        // Two levels of nodes: deep enough to push and pop, shallow enough for every stack.
+        assert_eq!(geometry.stack_size, 2 * (WIDTH - 1) + 1);
+        assert!(geometry.stack_size <= SMALL_STACK_SIZE);
         let rays: Vec<Ray> = (0..2000)
             .map(|_| Ray::new(point(), (point() - point()).normalize()))
             .collect();
@@ -701,5 +768,66 @@ mod tests {
             }
             assert!(hits > 200, "too few hits to test anything: {hits}");
         }
+    }
+
+    /// The AVX slab test answers like the two 4-wide halves, bit for bit: random boxes (also
+    /// flat and inverted ones, unused lanes) against random rays (also with zero direction
+    /// components and origins on a box face).
+    #[cfg(all(target_arch = "x86_64", target_feature = "avx"))]
+    #[test]
+    fn avx_slab_matches_portable() {
+        let mut rng = Rng::new(11, 0, 0);
+        let mut value = move || (rng.uniform() * 2.0 - 1.0) * 4.0;
+        let (mut met, mut missed) = (0, 0);
+        for case in 0..20_000 {
+            let mut node = Node::EMPTY;
+            for i in 0..WIDTH {
+                for axis in 0..3 {
+                    let (a, b) = (value(), value());
+                    let flat = case % 5 == 0 && axis == 1;
+                    node.min[axis][i] = a.min(b);
+                    node.max[axis][i] = if flat { a.min(b) } else { a.max(b) };
+                }
+                node.child[i] = i as u32;
+            }
+            node.valid = (case as u32 * 37) & 0xff | 1;
+            let mut origin = Vec3::new(value(), value(), value());
+            if case % 7 == 0 {
+                origin.x = node.min[0][case % WIDTH];
+            }
+            let mut dir = Vec3::new(value(), value(), value());
+            if case % 3 == 0 {
+                dir[case % 3] = 0.0;
+            } else if case % 3 == 1 {
+                // Through a box corner: entry and exit agree to a few ulps, where the
+                // rounding allowance decides.
+                let i = case % WIDTH;
+                dir = Vec3::new(node.max[0][i], node.min[1][i], node.max[2][i]) - origin;
+            }
+            let ray = TraversalRay::new(&Ray::new(origin, dir.normalize_or(Vec3::Z)));
+            let t_max = if case % 2 == 0 {
+                f32::INFINITY
+            } else {
+                value().abs()
+            };
+            let (avx_met, avx_near) = ray.slab_avx(&node, t_max);
+            let (met_portable, near_portable) = ray.slab_portable(&node, t_max);
+            assert_eq!(avx_met, met_portable, "case {case}");
+            for i in 0..WIDTH {
+                if avx_met >> i & 1 == 1 {
+                    assert_eq!(
+                        avx_near[i].to_bits(),
+                        near_portable[i].to_bits(),
+                        "case {case}"
+                    );
+                }
+            }
+            met += avx_met.count_ones();
+            missed += (node.valid & !avx_met).count_ones();
+        }
+        assert!(
+            met > 3000 && missed > 3000,
+            "too few boxes met or missed to test anything: {met}, {missed}"
+        );
     }
 }
