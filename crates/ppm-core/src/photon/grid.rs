@@ -424,7 +424,7 @@ impl HashGrid {
     /// `None` when nothing can be found (r < 0 or NaN, or no photon stored). The cube is
     /// padded so that rounding in `p ± r` or in d² never leaves out a photon with computed
     /// d² <= r² (a few ulps of r and of |p| suffice; this is generous).
-    #[inline]
+    #[inline(always)]
     fn cell_range(&self, p: Vec3, r: f32) -> Option<(IVec3, IVec3, i64)> {
         let pad = r * (1.0 + 1e-6) + p.abs().max_element() * 1e-6;
         let (lo, hi) = (self.hash.cell(p - pad), self.hash.cell(p + pad));
