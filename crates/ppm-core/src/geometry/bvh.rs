@@ -311,9 +311,11 @@ impl Geometry {
         if !aabbs.is_empty() {
             // At most 2 primitives per leaf (one quad: a half-filled packet). Callgrind, one
             // iteration (`--photons 65536 --width 256 --height 256 -n 1 --threads 1`), whole
-            // program, leaves of at most 1 / 2 / 4: specular box 531 / 484 / 584 M
-            // instructions, water 1349 / 1229 / 1222 M, diffuse box 537 / 477 / 479 M. The
-            // box walls span the scene, so bigger leaves cull less.
+            // program, leaves of at most 1 / 2 / 4 with 4-wide nodes: specular box
+            // 531 / 484 / 584 M instructions, water 1349 / 1229 / 1222 M, diffuse box
+            // 537 / 477 / 479 M; with 8-wide nodes, 2 / 4: specular 414 / 540 M, water
+            // 1091 / 1088 M, diffuse 404 / 412 M. The box walls span the scene, so bigger
+            // leaves cull less.
             let params = BvhBuildParams {
                 max_prims_per_leaf: 2,
                 ..BvhBuildParams::medium_build()
