@@ -114,7 +114,8 @@ impl Bsdf {
 
     /// Samples `wi` given `wo`; `u_lobe` chooses a lobe, `u` the direction within it.
     /// `None` when the sample carries no energy (e.g. below the horizon). Always inlined
-    /// into the tracers (a dispatch on the variant they often already know).
+    /// into the tracers' loops: left to LLVM, that depended on how the crate was split into
+    /// codegen units (see `Geometry::intersect`).
     #[inline(always)]
     pub fn sample(
         &self,
