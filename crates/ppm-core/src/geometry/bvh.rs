@@ -84,8 +84,11 @@ pub struct Geometry {
     leaves: Vec<Leaf>,
     packets: Vec<TrianglePacket>,
     sphere_records: Vec<SphereRecord>,
-    /// Triangles, their materials and shading-normal slots, by global id.
+    /// Triangles, their unit geometric normals, materials and shading-normal slots, by
+    /// global id. The normals are computed once here, by the very expression a hit would
+    /// evaluate, instead of per hit.
     triangles: Vec<Triangle>,
+    tri_geometric_normals: Vec<Vec3>,
     tri_materials: Vec<u32>,
     /// Index into `shading_normals` per triangle, u32::MAX when the mesh has no normals.
     tri_normals: Vec<u32>,
@@ -253,6 +256,7 @@ impl Geometry {
     /// (zero area or non-finite vertices) are skipped and counted in [`Geometry::skipped_triangles`].
     pub fn new(meshes: &[TriangleMesh], spheres: &[Sphere]) -> Self {
         let mut triangles = Vec::new();
+        let mut tri_geometric_normals = Vec::new();
         let mut tri_materials = Vec::new();
         let mut tri_normals = Vec::new();
         let mut shading_normals = Vec::new();
@@ -274,6 +278,7 @@ impl Geometry {
                     continue;
                 }
                 triangles.push(tri);
+                tri_geometric_normals.push(n.normalize());
                 tri_materials.push(mesh.materials.get(i).copied().unwrap_or(0));
                 if has_normals {
                     tri_normals.push(shading_normals.len() as u32);
@@ -330,6 +335,7 @@ impl Geometry {
             packets: wide.packets,
             sphere_records: wide.spheres,
             triangles,
+            tri_geometric_normals,
             tri_materials,
             tri_normals,
             shading_normals,
@@ -525,7 +531,7 @@ impl Geometry {
             // of the triangle, which is what `offset_origin` assumes.
             let (b1, b2) = (uv.x as f64, uv.y as f64);
             let p = DVec3::from(v0) * (1.0 - b1 - b2) + DVec3::from(v1) * b1 + DVec3::from(v2) * b2;
-            let ng = (v1 - v0).cross(v2 - v0).normalize();
+            let ng = self.tri_geometric_normals[i];
             let ns = match self.tri_normals[i] {
                 u32::MAX => ng,
                 k => {
