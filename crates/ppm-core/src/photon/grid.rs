@@ -22,7 +22,7 @@
 //! stored order depends only on the set of photons, and so does the order in which a query
 //! calls its closure: gathers sum in the same order at any thread count.
 
-use super::gather::{Columns, FluxQuery, FluxSum, LANES};
+use super::gather::{Columns, ColumnsView, FluxQuery, FluxSum, LANES};
 use super::{FluxRecord, Kernel, Photon};
 use glam::{IVec3, Vec3};
 use rayon::prelude::*;
@@ -300,12 +300,13 @@ impl HashGrid {
         };
 
         if cells <= SMALL_QUERY as i64 {
+            let columns = self.columns.view();
             for range in self.bucket_runs(lo, hi).iter() {
-                self.scan(range, p, r2, &mut f);
+                Self::scan(&columns, range, p, r2, &mut f);
             }
         } else if cells >= self.hash.buckets as i64 {
             // The sphere covers more cells than there are buckets: scan every photon once.
-            self.scan(0..self.photons.len(), p, r2, &mut f);
+            Self::scan(&self.columns.view(), 0..self.photons.len(), p, r2, &mut f);
         } else {
             // Many cells: instead of remembering buckets, accept a photon only when visiting
             // its own cell, which happens exactly once since cells are distinct.
@@ -326,15 +327,21 @@ impl HashGrid {
         }
     }
 
-    /// Calls `f(i, d²)` for the photons `i` of the stored `range` with `d² <= r2`, in order.
+    /// Calls `f(i, d²)` for the photons `i` of the stored `range` (read through `columns`, the
+    /// grid's column view, made once per query) with `d² <= r2`, in order.
     ///
     /// Blocks of [`LANES`] candidates: the squared distances (computed as
     /// `Vec3::distance_squared` does, so bit-identical to it) and a mask of those inside;
     /// lanes past the end of the range are masked off (they read the padding or the next
     /// bucket).
     #[inline(always)]
-    fn scan(&self, range: Range<usize>, p: Vec3, r2: f32, f: &mut impl FnMut(usize, f32)) {
-        let columns = self.columns.view();
+    fn scan(
+        columns: &ColumnsView<'_>,
+        range: Range<usize>,
+        p: Vec3,
+        r2: f32,
+        f: &mut impl FnMut(usize, f32),
+    ) {
         let mut i = range.start;
         while i < range.end {
             let (mut inside, d2) = block_distances(columns.block(i).position, p, r2);
