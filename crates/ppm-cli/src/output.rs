@@ -216,17 +216,19 @@ pub fn write_outputs(paths: &OutputPaths, image: &Image) -> Result<()> {
     write_exr(&paths.exr, image)
 }
 
-/// Reads an image as linear RGB: an OpenEXR file (its R, G, B channels) or, as a convenience,
-/// a PNG (decoded from sRGB).
+/// Reads an image as linear RGB: an OpenEXR file (its R, G, B channels), a Radiance .hdr file
+/// (what other renderers, SmallVCM among them, write) or, as a convenience, a PNG (decoded
+/// from sRGB).
 pub fn read_image(path: &Path) -> Result<Image> {
     let ext = path
         .extension()
         .map(|e| e.to_string_lossy().to_ascii_lowercase());
     match ext.as_deref() {
         Some("exr") => read_exr(path),
+        Some("hdr") => read_hdr(path),
         Some("png") => read_png(path),
         _ => bail!(
-            "cannot read {}: expected an .exr or .png file",
+            "cannot read {}: expected an .exr, .hdr or .png file",
             path.display()
         ),
     }
@@ -245,6 +247,19 @@ fn read_exr(path: &Path) -> Result<Image> {
     // exr's errors repeat their io::Error as their source: keep the message only.
     .map_err(|e| anyhow::anyhow!("{e}"))?;
     Ok(exr_image.layer_data.channel_data.pixels)
+}
+
+fn read_hdr(path: &Path) -> Result<Image> {
+    let reader = BufReader::new(File::open(path)?);
+    // Radiance RGBE decodes to linear floats; no transfer curve to undo.
+    let rgb = image::ImageReader::with_format(reader, image::ImageFormat::Hdr)
+        .decode()?
+        .to_rgb32f();
+    Ok(Image {
+        width: rgb.width(),
+        height: rgb.height(),
+        pixels: rgb.pixels().map(|p| Vec3::from(p.0)).collect(),
+    })
 }
 
 fn read_png(path: &Path) -> Result<Image> {
@@ -392,6 +407,32 @@ mod tests {
         }
     }
 
+    /// A Radiance file (written by the image crate's encoder) reads back top row first, in
+    /// R, G, B order, within RGBE's precision (8 mantissa bits under the largest channel).
+    #[test]
+    fn hdr_reads_in_order_within_rgbe_precision() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("other_renderer.hdr");
+        let (width, height) = (3, 2);
+        let pixels: Vec<Vec3> = (0..width * height)
+            .map(|i| Vec3::new(1.0 + i as f32, 0.5 * i as f32, 0.03 * (5 - i) as f32))
+            .collect();
+        let rgb: Vec<image::Rgb<f32>> = pixels.iter().map(|p| image::Rgb(p.to_array())).collect();
+        let file = BufWriter::new(File::create(&path).unwrap());
+        image::codecs::hdr::HdrEncoder::new(file)
+            .encode(&rgb, width, height)
+            .unwrap();
+        let back = read_image(&path).unwrap();
+        assert_eq!((back.width, back.height), (width as u32, height as u32));
+        for (i, (a, b)) in back.pixels.iter().zip(&pixels).enumerate() {
+            let tolerance = b.max_element() / 128.0;
+            assert!(
+                (*a - *b).abs().max_element() <= tolerance,
+                "pixel {i}: {a} vs {b}"
+            );
+        }
+    }
+
     #[test]
     fn atomic_write_replaces_and_leaves_no_temp_files() {
         let dir = tempfile::tempdir().unwrap();
@@ -475,5 +516,8 @@ mod tests {
         assert!(format!("{:#}", read_image(&garbage).unwrap_err()).contains("garbage.exr"));
         let err = format!("{:#}", read_image(Path::new("x.tiff")).unwrap_err());
         assert!(err.contains("x.tiff") && err.contains(".exr"), "{err}");
+        let garbage = dir.path().join("garbage.hdr");
+        fs::write(&garbage, b"#?RADIANCE\nnot a header").unwrap();
+        assert!(format!("{:#}", read_image(&garbage).unwrap_err()).contains("garbage.hdr"));
     }
 }
