@@ -271,3 +271,46 @@ fn every_scene_builds() {
         );
     }
 }
+
+/// `scenes/compare/smallvcm_mirror_ceiling.yml` holds SmallVCM's numbers (scene 1 of its
+/// scene.hxx): the box's corners, the light's power pi A Le from a 0.5 x 0.5 underside facing
+/// down, the camera's resolution and forward direction; and it loads without warnings.
+#[test]
+fn smallvcm_scene_matches_its_source() {
+    let path = scenes_dir().join("compare/smallvcm_mirror_ceiling.yml");
+    let (builder, warnings) = load_scene_builder(&path).unwrap_or_else(|e| panic!("{e}"));
+    assert!(warnings.is_empty(), "{warnings:#?}");
+    let camera = &builder.camera;
+    assert_eq!((camera.width, camera.height), (512, 512));
+    let forward = Vec3::new(0.00688625, 0.998505, -0.0542161).normalize();
+    let centre = camera.generate_ray(Vec2::new(256.0, 256.0)).dir;
+    assert!((centre - forward).length() < 1e-5, "{centre}");
+
+    let scene = load_scene(&path).unwrap_or_else(|e| panic!("{e}")).scene;
+    // The scene is stored relative to the camera: world = stored + origin.
+    let (lo, hi) = scene.geometry.bounds();
+    let (lo, hi) = (lo + scene.origin, hi + scene.origin);
+    let (box_lo, box_hi) = (
+        Vec3::new(-1.27029, -1.25549, -1.28002),
+        Vec3::new(1.28975, 1.30455, 1.28002),
+    );
+    assert!((lo - box_lo).abs().max_element() < 1e-5, "{lo}");
+    assert!((hi - box_hi).abs().max_element() < 1e-5, "{hi}");
+    assert_eq!(
+        scene.lights.len(),
+        2,
+        "the underside is two emissive triangles"
+    );
+    let power = std::f32::consts::PI * 0.25 * 25.033_3;
+    assert!(
+        (scene.total_power() - Vec3::splat(power))
+            .abs()
+            .max_element()
+            < 1e-3 * power
+    );
+    for light in &scene.lights {
+        let below = Vec3::ZERO - scene.origin;
+        let s = light.sample_direct(below, Vec2::splat(0.5)).unwrap();
+        assert!(s.n.z < -0.999 && s.li.min_element() > 25.0, "{s:?}");
+    }
+}
