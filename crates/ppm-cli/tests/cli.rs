@@ -153,6 +153,24 @@ fn compare_prints_the_metrics() {
     );
 }
 
+/// `ppm compare A B | head -1`: the reader closes the pipe early; ppm exits 0 without a panic.
+#[test]
+fn compare_into_a_closed_pipe_does_not_panic() {
+    let dir = tempfile::tempdir().unwrap();
+    write_exr(&dir.path().join("a.exr"), 4, 3, |_, _| [0.5; 3]);
+    write_exr(&dir.path().join("b.exr"), 4, 3, |_, _| [1.0; 3]);
+    let mut child = ppm(dir.path())
+        .args(["compare", "a.exr", "b.exr"])
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    // Closed before ppm has read its two images, so its first write finds no reader.
+    drop(child.stdout.take());
+    let out = child.wait_with_output().unwrap();
+    assert_ok(&out);
+}
+
 #[test]
 fn compare_reads_png_as_srgb() {
     let dir = tempfile::tempdir().unwrap();
