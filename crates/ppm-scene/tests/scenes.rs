@@ -273,7 +273,7 @@ fn every_scene_builds() {
 }
 
 /// `scenes/compare/smallvcm_mirror_ceiling.yml` holds SmallVCM's numbers (scene 1 of its
-/// scene.hxx): the box's corners, the light's power pi A Le from a 0.5 x 0.5 underside facing
+/// scene.hxx): the box's extents, the light's power pi A Le from a 0.5 x 0.5 underside facing
 /// down, the camera's resolution and forward direction; and it loads without warnings.
 #[test]
 fn smallvcm_scene_matches_its_source() {
