@@ -170,7 +170,7 @@ pub fn run(args: &ConvergeArgs, interrupt: &Interrupt) -> Result<Outcome> {
                     .last()
                     .map(|s| s.rel_mse)
                     .unwrap_or(f64::NAN);
-                eprintln!(
+                status!(
                     "{} seed {seed}: {} iterations in {:.2} s, relMSE {final_error:.4e}",
                     algorithm.name(),
                     totals.iterations,
@@ -197,7 +197,7 @@ pub fn run(args: &ConvergeArgs, interrupt: &Interrupt) -> Result<Outcome> {
         reference.height
     );
     plot::write_plot(&plot_path, &title, &curves(&runs))?;
-    eprintln!("wrote {} and {}", csv_path.display(), plot_path.display());
+    status!("wrote {} and {}", csv_path.display(), plot_path.display());
     output::print_stdout(&final_report(&runs))?;
     Ok(if interrupt.requested() {
         Outcome::Interrupted

@@ -1,6 +1,15 @@
 //! `ppm`: renders scene files with progressive photon mapping or path tracing, compares images
 //! and measures convergence. See `ppm --help`.
 
+/// `eprintln!` that never panics: with stderr closed (`ppm scene 2>&1 | head -1`) a status line
+/// has nowhere to go, and the render must go on and be written regardless.
+macro_rules! status {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        let _ = writeln!(std::io::stderr(), $($arg)*);
+    }};
+}
+
 mod args;
 mod compare;
 mod converge;
@@ -26,7 +35,7 @@ fn main() -> ExitCode {
         Ok(Outcome::Finished) => ExitCode::SUCCESS,
         Ok(Outcome::Interrupted) => ExitCode::from(EXIT_INTERRUPTED),
         Err(e) => {
-            eprintln!("error: {e:#}");
+            status!("error: {e:#}");
             ExitCode::FAILURE
         }
     }

@@ -182,7 +182,7 @@ pub fn run(args: &RenderArgs, interrupt: &Interrupt) -> Result<Outcome> {
         })??;
 
     output::write_outputs(&paths, &image)?;
-    eprintln!("wrote {} and {}", paths.png.display(), paths.exr.display());
+    status!("wrote {} and {}", paths.png.display(), paths.exr.display());
     let camera = &scene.camera;
     let (rejected, first_rejected) = rejected;
     let summary = Summary {
@@ -194,10 +194,10 @@ pub fn run(args: &RenderArgs, interrupt: &Interrupt) -> Result<Outcome> {
         render_state_bytes: state_bytes,
         peak_rss_bytes: peak_rss_bytes(),
     };
-    eprintln!("{}", summary.line());
-    eprintln!("{}", summary.passes_line());
+    status!("{}", summary.line());
+    status!("{}", summary.passes_line());
     if let Some((iteration, pixel)) = first_rejected {
-        eprintln!(
+        status!(
             "first rejected sample: iteration {iteration} (0-based), pixel ({}, {}), seed {}",
             pixel % camera.width,
             pixel / camera.width,
@@ -205,7 +205,7 @@ pub fn run(args: &RenderArgs, interrupt: &Interrupt) -> Result<Outcome> {
         );
     }
     if let Some(last) = tracker.as_ref().and_then(|t| t.samples.last()) {
-        eprintln!(
+        status!(
             "error against {}: relMSE {:.4e}, RMSE {:.4e}",
             display(args.reference.as_deref()),
             last.rel_mse,

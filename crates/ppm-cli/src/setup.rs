@@ -33,7 +33,7 @@ pub fn load_scene(path: &Path) -> Result<Scene> {
     let loaded = ppm_scene::load_scene(path)
         .with_context(|| format!("cannot load scene {}", path.display()))?;
     for warning in &loaded.warnings {
-        eprintln!("warning: {warning}");
+        status!("warning: {warning}");
     }
     Ok(loaded.scene)
 }

@@ -25,10 +25,10 @@ impl Interrupt {
         let this = self.clone();
         ctrlc::set_handler(move || {
             if this.request() >= 2 {
-                eprintln!("\nppm: interrupted twice, exiting now");
+                status!("\nppm: interrupted twice, exiting now");
                 std::process::exit(EXIT_INTERRUPTED.into());
             }
-            eprintln!(
+            status!(
                 "\nppm: interrupted: finishing the current iteration, then writing the image \
                  (Ctrl-C again to quit at once)"
             );

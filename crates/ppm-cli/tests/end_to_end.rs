@@ -41,6 +41,23 @@ fn render_writes_png_and_exr_with_default_names() {
     assert_eq!(png.dimensions(), (16, 12));
 }
 
+/// `ppm tiny.yml 2>&1 | head -1`: stderr closed before the render's status lines; the render
+/// still finishes, is written, and ppm exits 0 without a panic.
+#[test]
+fn render_with_stderr_closed_still_writes_the_image() {
+    let dir = tempfile::tempdir().unwrap();
+    tiny_scene(dir.path());
+    let mut child = ppm(dir.path())
+        .args(["tiny.yml", "-n", "2"])
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(child.stderr.take());
+    let status = child.wait().unwrap();
+    assert!(status.success(), "{status:?}");
+    assert_eq!(file_names(dir.path()), ["tiny.exr", "tiny.png", "tiny.yml"]);
+}
+
 #[test]
 fn output_flag_and_resolution_overrides() {
     let dir = tempfile::tempdir().unwrap();
