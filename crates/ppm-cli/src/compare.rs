@@ -42,7 +42,7 @@ fn report(a: &Path, image_a: &Image, b: &Path, image_b: &Image, m: &ErrorMetrics
 /// Runs the subcommand: prints the report to stdout.
 pub fn run(args: &CompareArgs) -> Result<()> {
     let (_, report) = compare_files(&args.a, &args.b)?;
-    crate::output::print_stdout(&format!("{report}\n"))
+    crate::console::print_stdout(&format!("{report}\n"))
 }
 
 #[cfg(test)]

@@ -198,7 +198,7 @@ pub fn run(args: &ConvergeArgs, interrupt: &Interrupt) -> Result<Outcome> {
     );
     plot::write_plot(&plot_path, &title, &curves(&runs))?;
     status!("wrote {} and {}", csv_path.display(), plot_path.display());
-    output::print_stdout(&final_report(&runs))?;
+    crate::console::print_stdout(&final_report(&runs))?;
     Ok(if interrupt.requested() {
         Outcome::Interrupted
     } else {

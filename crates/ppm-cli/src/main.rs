@@ -1,15 +1,8 @@
 //! `ppm`: renders scene files with progressive photon mapping or path tracing, compares images
 //! and measures convergence. See `ppm --help`.
 
-/// `eprintln!` that never panics: with stderr closed (`ppm scene 2>&1 | head -1`) a status line
-/// has nowhere to go, and the render must go on and be written regardless.
-macro_rules! status {
-    ($($arg:tt)*) => {{
-        use std::io::Write as _;
-        let _ = writeln!(std::io::stderr(), $($arg)*);
-    }};
-}
-
+#[macro_use]
+mod console;
 mod args;
 mod compare;
 mod converge;

@@ -284,16 +284,6 @@ pub fn create_log(path: &Path) -> Result<BufWriter<File>> {
     Ok(BufWriter::new(file))
 }
 
-/// Prints `text` to stdout. A closed pipe (`ppm compare A B | head -1`) is the reader's choice,
-/// not an error: the rest is dropped quietly. Rust ignores SIGPIPE, so `println!` would panic.
-pub fn print_stdout(text: &str) -> Result<()> {
-    let mut out = std::io::stdout().lock();
-    match out.write_all(text.as_bytes()).and_then(|()| out.flush()) {
-        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
-        result => result.context("cannot write to stdout"),
-    }
-}
-
 /// Writes one line to a log and flushes it, so a log is useful even if the run stops early.
 pub fn log_line(log: &mut BufWriter<File>, path: &Path, line: &str) -> Result<()> {
     writeln!(log, "{line}")
