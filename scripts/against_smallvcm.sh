@@ -2,8 +2,9 @@
 # ppm beside SmallVCM (the C++ renderer of issue 6's speed bar) on SmallVCM's scene 1, which
 # scenes/compare/smallvcm_mirror_ceiling.yml transcribes. SmallVCM is not part of ppm: build it
 # yourself (README, "Against SmallVCM") and pass its binary. Writes into OUT (default
-# compare_smallvcm/): the alternating speed runs (speed.tsv) and relMSE against seconds for
-# SmallVCM's PPM, ppm and ppm --direct photons (smallvcm_mirror_ceiling.csv), then prints the tables.
+# compare_smallvcm/): the alternating speed runs (speed.tsv; each round also times the bar's pair
+# of scenes) and relMSE against seconds for SmallVCM's PPM, ppm and ppm --direct photons
+# (smallvcm_mirror_ceiling.csv), then prints the tables.
 # Needs the reference refs/smallvcm_mirror_ceiling.exr (512x512 path tracing, see the README).
 # Usage: scripts/against_smallvcm.sh SMALLVCM_BINARY [RUNS] [MAX_SMALLVCM_ITERATIONS] [OUT]
 set -euo pipefail
@@ -21,6 +22,7 @@ now() { date +%s.%N; }
 
 # Speed: 12 iterations each at 2 threads (SmallVCM takes all cores; this machine has 2),
 # alternating so that all see the same load. Wall seconds, start-up and image output included.
+# Each round also runs the bar's pair of issue 6 (SmallVCM's scene 0 and ppm's specular box).
 echo -e "run\trenderer\tseconds" > "$out/speed.tsv"
 for run in $(seq 1 "$runs"); do
   t0=$(now); "$smallvcm" -a ppm -s 1 -i 12 -o "$out/smallvcm_12.hdr" > /dev/null; t1=$(now)
@@ -29,6 +31,14 @@ for run in $(seq 1 "$runs"); do
     t0=$(now); "$ppm" "$scene" -n 12 --threads 2 --direct "$direct" -o "$out/ppm_12.exr" 2> /dev/null; t1=$(now)
     echo -e "$run\tppm-direct-$direct\t$(echo "$t1 - $t0" | bc -l)" >> "$out/speed.tsv"
   done
+  # The bar's own pair (different scenes): SmallVCM's default sun scene, ppm's specular box.
+  t0=$(now); "$smallvcm" -a ppm -s 0 -i 12 -o "$out/smallvcm_sun_12.hdr" > /dev/null; t1=$(now)
+  echo -e "$run\tsmallvcm-sun\t$(echo "$t1 - $t0" | bc -l)" >> "$out/speed.tsv"
+  t0=$(now)
+  "$ppm" scenes/cornell_box_specular.yml --photons 262144 --width 512 --height 512 -n 12 \
+    --threads 2 -o "$out/ppm_specular_12.exr" 2> /dev/null
+  t1=$(now)
+  echo -e "$run\tppm-specular\t$(echo "$t1 - $t0" | bc -l)" >> "$out/speed.tsv"
 done
 
 # Error against time: SmallVCM at 1, 2, 4, ... iterations (one run each, seconds measured
@@ -61,7 +71,9 @@ print("| renderer | seconds for 12 iterations (min / median / max) | SmallVCM / 
 print("|---|---|---|")
 for name, runs in seconds.items():
     s = sorted(runs.values())
-    ratios = sorted(seconds["smallvcm"][k] / v for k, v in runs.items())
+    # Each ppm run against the SmallVCM run of its pair of scenes in the same round.
+    smallvcm = seconds["smallvcm-sun" if name.endswith(("sun", "specular")) else "smallvcm"]
+    ratios = sorted(smallvcm[k] / v for k, v in runs.items())
     print(f"| {name} | {s[0]:.2f} / {statistics.median(s):.2f} / {s[-1]:.2f} | "
           f"{ratios[0]:.2f} / {statistics.median(ratios):.2f} / {ratios[-1]:.2f} |")
 PY
