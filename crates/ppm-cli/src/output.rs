@@ -250,31 +250,28 @@ fn read_exr(path: &Path) -> Result<Image> {
 }
 
 fn read_hdr(path: &Path) -> Result<Image> {
-    let reader = BufReader::new(File::open(path)?);
     // Radiance RGBE decodes to linear floats; no transfer curve to undo.
-    let rgb = image::ImageReader::with_format(reader, image::ImageFormat::Hdr)
+    read_rgb(path, image::ImageFormat::Hdr, |c| c)
+}
+
+fn read_png(path: &Path) -> Result<Image> {
+    // to_rgb32f maps the codes to [0, 1] (of 255 or 65535) without touching the transfer curve.
+    read_rgb(path, image::ImageFormat::Png, srgb_eotf)
+}
+
+/// Decodes `path` as `format` to RGB floats and maps each channel by `to_linear`.
+fn read_rgb(path: &Path, format: image::ImageFormat, to_linear: fn(f32) -> f32) -> Result<Image> {
+    let reader = BufReader::new(File::open(path)?);
+    let rgb = image::ImageReader::with_format(reader, format)
         .decode()?
         .to_rgb32f();
     Ok(Image {
         width: rgb.width(),
         height: rgb.height(),
-        pixels: rgb.pixels().map(|p| Vec3::from(p.0)).collect(),
-    })
-}
-
-fn read_png(path: &Path) -> Result<Image> {
-    let reader = BufReader::new(File::open(path)?);
-    let decoded = image::ImageReader::with_format(reader, image::ImageFormat::Png).decode()?;
-    // to_rgb32f maps the codes to [0, 1] (of 255 or 65535) without touching the transfer curve.
-    let rgb = decoded.to_rgb32f();
-    let pixels = rgb
-        .pixels()
-        .map(|p| Vec3::from(p.0.map(srgb_eotf)))
-        .collect();
-    Ok(Image {
-        width: rgb.width(),
-        height: rgb.height(),
-        pixels,
+        pixels: rgb
+            .pixels()
+            .map(|p| Vec3::from(p.0.map(to_linear)))
+            .collect(),
     })
 }
 
