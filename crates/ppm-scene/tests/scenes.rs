@@ -308,8 +308,9 @@ fn smallvcm_scene_matches_its_source() {
             .max_element()
             < 1e-3 * power
     );
+    // The world origin, below the light, in the scene's stored coordinates.
+    let below = -scene.origin;
     for light in &scene.lights {
-        let below = Vec3::ZERO - scene.origin;
         let s = light.sample_direct(below, Vec2::splat(0.5)).unwrap();
         assert!(s.n.z < -0.999 && s.li.min_element() > 25.0, "{s:?}");
     }
