@@ -24,21 +24,23 @@ now() { date +%s.%N; }
 # alternating so that all see the same load. Wall seconds, start-up and image output included.
 # Each round also runs the bar's pair of issue 6 (SmallVCM's scene 0 and ppm's specular box).
 echo -e "run\trenderer\tseconds" > "$out/speed.tsv"
+# timed RUN NAME COMMAND...: runs COMMAND (its output dropped) and logs its wall seconds.
+timed() {
+  local run=$1 name=$2 t0 t1
+  shift 2
+  t0=$(now); "$@" > /dev/null 2>&1; t1=$(now)
+  echo -e "$run\t$name\t$(echo "$t1 - $t0" | bc -l)" >> "$out/speed.tsv"
+}
 for run in $(seq 1 "$runs"); do
-  t0=$(now); "$smallvcm" -a ppm -s 1 -i 12 -o "$out/smallvcm_12.hdr" > /dev/null; t1=$(now)
-  echo -e "$run\tsmallvcm\t$(echo "$t1 - $t0" | bc -l)" >> "$out/speed.tsv"
+  timed "$run" smallvcm "$smallvcm" -a ppm -s 1 -i 12 -o "$out/smallvcm_12.hdr"
   for direct in sampled photons; do
-    t0=$(now); "$ppm" "$scene" -n 12 --threads 2 --direct "$direct" -o "$out/ppm_12.exr" 2> /dev/null; t1=$(now)
-    echo -e "$run\tppm-direct-$direct\t$(echo "$t1 - $t0" | bc -l)" >> "$out/speed.tsv"
+    timed "$run" "ppm-direct-$direct" "$ppm" "$scene" -n 12 --threads 2 --direct "$direct" \
+      -o "$out/ppm_12.exr"
   done
   # The bar's own pair (different scenes): SmallVCM's default sun scene, ppm's specular box.
-  t0=$(now); "$smallvcm" -a ppm -s 0 -i 12 -o "$out/smallvcm_sun_12.hdr" > /dev/null; t1=$(now)
-  echo -e "$run\tsmallvcm-sun\t$(echo "$t1 - $t0" | bc -l)" >> "$out/speed.tsv"
-  t0=$(now)
-  "$ppm" scenes/cornell_box_specular.yml --photons 262144 --width 512 --height 512 -n 12 \
-    --threads 2 -o "$out/ppm_specular_12.exr" 2> /dev/null
-  t1=$(now)
-  echo -e "$run\tppm-specular\t$(echo "$t1 - $t0" | bc -l)" >> "$out/speed.tsv"
+  timed "$run" smallvcm-sun "$smallvcm" -a ppm -s 0 -i 12 -o "$out/smallvcm_sun_12.hdr"
+  timed "$run" ppm-specular "$ppm" scenes/cornell_box_specular.yml --photons 262144 \
+    --width 512 --height 512 -n 12 --threads 2 -o "$out/ppm_specular_12.exr"
 done
 
 # Error against time: SmallVCM at 1, 2, 4, ... iterations (one run each, seconds measured
