@@ -1,11 +1,11 @@
 #!/usr/bin/env bash
-# ppm beside SmallVCM (the C++ renderer of issue 6's speed bar) on SmallVCM's scene 1, which
-# scenes/compare/smallvcm_mirror_ceiling.yml transcribes. SmallVCM is not part of ppm: build it
-# yourself (README, "Against SmallVCM") and pass its binary. Writes into OUT (default
-# compare_smallvcm/): the alternating speed runs (speed.tsv; each round also times the bar's pair
-# of scenes) and relMSE against seconds for SmallVCM's PPM, ppm and ppm --direct photons
-# (smallvcm_mirror_ceiling.csv), then prints the tables.
-# Needs the reference refs/smallvcm_mirror_ceiling.exr (512x512 path tracing, see the README).
+# ppm beside SmallVCM (a C++ teaching renderer with progressive photon mapping) on SmallVCM's
+# scene 1, which scenes/compare/smallvcm_mirror_ceiling.yml transcribes. SmallVCM is not part of
+# ppm: build it yourself (docs/performance.md, "against SmallVCM") and pass its binary. Writes
+# into OUT (default compare_smallvcm/): the alternating speed runs (speed.tsv; each round also
+# times the speed benchmark pair of scenes) and relMSE against seconds for SmallVCM's PPM, ppm
+# and ppm --direct photons (smallvcm_mirror_ceiling.csv), then prints the tables.
+# Needs the reference refs/smallvcm_mirror_ceiling.exr (512x512 path tracing, see docs/performance.md).
 # Usage: scripts/against_smallvcm.sh SMALLVCM_BINARY [RUNS] [MAX_SMALLVCM_ITERATIONS] [OUT]
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -22,7 +22,7 @@ now() { date +%s.%N; }
 
 # Speed: 12 iterations each at 2 threads (SmallVCM takes all cores; this machine has 2),
 # alternating so that all see the same load. Wall seconds, start-up and image output included.
-# Each round also runs the bar's pair of issue 6 (SmallVCM's scene 0 and ppm's specular box).
+# Each round also runs the speed benchmark pair (SmallVCM's scene 0 and ppm's specular box).
 echo -e "run\trenderer\tseconds" > "$out/speed.tsv"
 # timed RUN NAME COMMAND...: runs COMMAND (its output dropped) and logs its wall seconds.
 timed() {
@@ -37,7 +37,7 @@ for run in $(seq 1 "$runs"); do
     timed "$run" "ppm-direct-$direct" "$ppm" "$scene" -n 12 --threads 2 --direct "$direct" \
       -o "$out/ppm_12.exr"
   done
-  # The bar's own pair (different scenes): SmallVCM's default sun scene, ppm's specular box.
+  # The speed benchmark pair (different scenes): SmallVCM's default sun scene, ppm's specular box.
   timed "$run" smallvcm-sun "$smallvcm" -a ppm -s 0 -i 12 -o "$out/smallvcm_sun_12.hdr"
   timed "$run" ppm-specular "$ppm" scenes/cornell_box_specular.yml --photons 262144 \
     --width 512 --height 512 -n 12 --threads 2 -o "$out/ppm_specular_12.exr"

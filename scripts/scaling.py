@@ -12,7 +12,8 @@ while the other is busy too, so `pair / (2 x two-thread time)` is the parallel e
 ppm itself, and `alone / pair` is what the machine loses when both cores work.
 
 Usage: scripts/scaling.py [K] [-- extra ppm arguments]
-Default: the issue's bar, cornell_box_specular.yml --photons 262144 at 512x512, 6 iterations.
+Default: the speed benchmark render of docs/performance.md, cornell_box_specular.yml
+--photons 262144 at 512x512, 6 iterations.
 """
 
 import re
