@@ -4,6 +4,7 @@
 //! iteration estimates) is a valid result, so a render can stop at any iteration.
 
 mod camera_path;
+mod camera_walk;
 mod direct;
 mod path;
 mod ppm;
@@ -11,6 +12,9 @@ mod settings;
 mod shading;
 
 pub use camera_path::CameraPath;
+pub use camera_walk::{
+    walk, walk_to_visible_point, Next, RayCounters, Vertex, VisiblePoint, Walk, WalkParams,
+};
 pub use direct::{emission_mis_weight, estimate_direct};
 pub use path::PathTracer;
 pub use ppm::{

@@ -15,11 +15,12 @@ pub use eye_pass::{density_estimate, GatherContext};
 pub use photon_pass::{stores_photons, trace_light_path, MAX_LIGHT_PATHS};
 pub use radius::RadiusSchedule;
 
+use super::camera_walk::RayCounters;
 use super::{IterationStats, PassTimes, RenderSettings, Stopwatch};
 use crate::film::Film;
 use crate::photon::{HashGrid, Kernel, PhotonBuffer};
 use crate::scene::Scene;
-use eye_pass::{trace_eye_path, EyeCounters};
+use eye_pass::trace_eye_path;
 use glam::Vec3;
 use photon_pass::PhotonCounters;
 use rayon::prelude::*;
@@ -122,7 +123,7 @@ impl PpmRenderer {
             .par_chunks_mut(PIXELS_PER_TASK)
             .enumerate()
             .map(|(task, pixels)| {
-                let mut counters = EyeCounters::default();
+                let mut counters = RayCounters::default();
                 for (i, out) in pixels.iter_mut().enumerate() {
                     let pixel = task * PIXELS_PER_TASK + i;
                     *out = trace_eye_path(
@@ -137,10 +138,7 @@ impl PpmRenderer {
                 }
                 counters
             })
-            .reduce(EyeCounters::default, |a, b| EyeCounters {
-                rays: a.rays + b.rays,
-                shadow_rays: a.shadow_rays + b.shadow_rays,
-            });
+            .reduce(RayCounters::default, RayCounters::merge);
         passes.eye = clock.lap();
 
         let before = self.film.rejected();
