@@ -5,12 +5,16 @@
 
 mod tracer;
 
-use super::{IterationStats, PassTimes, RenderSettings, Stopwatch};
+use super::{
+    image_bytes, IterationStats, MemoryEstimate, MemoryPart, PassTimes, RenderSettings, Stopwatch,
+    MAX_DEPTH,
+};
 use crate::film::Film;
 use crate::sampling::Rng;
 use crate::scene::Scene;
 use glam::{Vec2, Vec3};
 use rayon::prelude::*;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 pub use tracer::PathCounters;
 
@@ -27,8 +31,10 @@ pub struct PathTracer {
 }
 
 impl PathTracer {
-    /// A fresh render.
+    /// A fresh render; `max_depth` is clamped to [`MAX_DEPTH`].
     pub fn new(scene: &Scene, settings: RenderSettings) -> Self {
+        let mut settings = settings;
+        settings.max_depth = settings.max_depth.min(MAX_DEPTH);
         let (w, h) = (scene.camera.width, scene.camera.height);
         PathTracer {
             settings,
@@ -37,15 +43,37 @@ impl PathTracer {
         }
     }
 
+    /// What [`PathTracer::new`] allocates for a `width` x `height` image: the per-pixel
+    /// buffers only.
+    pub fn memory_estimate(width: u32, height: u32, _settings: &RenderSettings) -> MemoryEstimate {
+        let mut estimate = MemoryEstimate::default();
+        estimate.add(MemoryPart::Image, image_bytes(width, height));
+        estimate
+    }
+
     /// Traces one path through every pixel and adds the result to the film.
     ///
     /// The pixel estimate is a box-filtered one: a uniformly jittered position in the pixel.
     /// Random streams are keyed by (seed, iteration, pixel), so the image does not depend on
     /// the number of threads.
     pub fn iterate(&mut self, scene: &Scene) -> IterationStats {
+        match self.iterate_until(scene, &|| false) {
+            Some(stats) => stats,
+            None => unreachable!("an iteration that is never asked to stop completes"),
+        }
+    }
+
+    /// [`PathTracer::iterate`], abandoned (film untouched, `None`) if `stop` says yes before
+    /// one of the iteration's tiles starts.
+    pub fn iterate_until<F: Fn() -> bool + Sync>(
+        &mut self,
+        scene: &Scene,
+        stop: &F,
+    ) -> Option<IterationStats> {
         let iteration = self.film.iterations();
         let width = scene.camera.width as usize;
         let settings = &self.settings;
+        let abandoned = AtomicBool::new(false);
         let mut clock = Stopwatch::start();
         let counters = self
             .estimates
@@ -53,6 +81,10 @@ impl PathTracer {
             .enumerate()
             .map(|(tile, rows)| {
                 let mut counters = PathCounters::default();
+                if stop() {
+                    abandoned.store(true, Ordering::Relaxed);
+                    return counters;
+                }
                 for (i, out) in rows.iter_mut().enumerate() {
                     let pixel = tile * width * TILE_ROWS + i;
                     let mut rng = Rng::new(settings.seed, iteration, pixel as u64);
@@ -64,6 +96,10 @@ impl PathTracer {
                 counters
             })
             .reduce(PathCounters::default, PathCounters::merge);
+        // The parallel iterator has joined: every store above is visible here.
+        if abandoned.load(Ordering::Relaxed) {
+            return None;
+        }
         let eye = clock.lap();
         let before = self.film.rejected();
         self.film.add_iteration(&self.estimates);
@@ -72,13 +108,13 @@ impl PathTracer {
             film: clock.lap(),
             ..Default::default()
         };
-        IterationStats {
+        Some(IterationStats {
             rays: counters.rays,
             shadow_rays: counters.shadow_rays,
             rejected: self.film.rejected() - before,
             passes,
             ..Default::default()
-        }
+        })
     }
 
     /// The per-pixel estimates of the last iteration alone (row-major), for variance
