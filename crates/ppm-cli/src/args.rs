@@ -13,8 +13,9 @@ const AFTER_HELP: &str = "\
 Output: a PNG (8-bit sRGB) and a linear float EXR with the same stem are always both written.
 
 Exit status: 0 on success, 1 on an error, 2 on bad command-line usage, 130 when a render was
-interrupted by Ctrl-C (the image of all finished iterations has been written; a second Ctrl-C
-quits at once without writing).";
+stopped by Ctrl-C, SIGTERM or SIGHUP (the iteration in progress is abandoned and the image of
+all finished iterations written; with none finished nothing is written; a second signal quits
+at once without writing).";
 
 /// Progressive photon mapping and path tracing renderer.
 #[derive(Parser, Debug)]
@@ -101,7 +102,7 @@ pub struct SettingsArgs {
     /// Photon mapping: radius reduction alpha in (0, 1].
     #[arg(long, value_parser = unit_interval, allow_negative_numbers = true)]
     pub alpha: Option<f32>,
-    /// Longest eye or light path, in bounces.
+    /// Longest eye or light path, in bounces (0: only light seen directly; at most 1024).
     #[arg(long)]
     pub max_depth: Option<u32>,
     /// Photon mapping: direct light from photons or by light sampling [default: sampled, the

@@ -7,6 +7,8 @@ mod args;
 mod compare;
 mod converge;
 mod error_log;
+mod guard;
+mod memory;
 mod output;
 mod plot;
 mod progress;

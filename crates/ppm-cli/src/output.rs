@@ -21,10 +21,18 @@ pub struct OutputPaths {
     pub exr: PathBuf,
 }
 
+/// Image formats ppm does not write: `-o out.jpg` is refused rather than read as a name.
+const OTHER_IMAGE_EXTENSIONS: &[&str] = &[
+    "jpg", "jpeg", "tif", "tiff", "hdr", "bmp", "gif", "webp", "tga", "pfm", "ppm", "pgm",
+];
+
 /// The PNG and EXR paths for `-o output` (or its absence) when rendering `scene`.
 ///
 /// `out.png`, `out.exr` and `out` all give `out.png` + `out.exr`; an existing folder (or a path
 /// ending in `/`) receives `<scene stem>.png/.exr`; without `-o` those go to the current folder.
+/// Only `.png` and `.exr` (any case) are taken as extensions and replaced; another image
+/// format's extension (`.jpg`, `.hdr`...) is refused; any other suffix is part of the name:
+/// `shot.0001` gives `shot.0001.png` + `shot.0001.exr`.
 pub fn output_paths(output: Option<&Path>, scene: &Path) -> Result<OutputPaths> {
     let stem = scene
         .file_stem()
@@ -40,11 +48,13 @@ pub fn output_paths(output: Option<&Path>, scene: &Path) -> Result<OutputPaths> 
         {
             None => o.to_path_buf(),
             Some(e) if e == "png" || e == "exr" => o.with_extension(""),
-            Some(e) => bail!(
+            Some(e) if OTHER_IMAGE_EXTENSIONS.contains(&e.as_str()) => bail!(
                 "output {}: unsupported extension .{e}; use .png, .exr or none \
                  (a PNG and an EXR are always both written)",
                 o.display()
             ),
+            // `shot.0001`, `render.v2`: a dot in a name is not always an extension.
+            Some(_) => o.to_path_buf(),
         },
     };
     Ok(OutputPaths {
@@ -69,8 +79,9 @@ fn parent_dir(path: &Path) -> &Path {
     }
 }
 
-/// A fresh name for a temporary file next to `path` (hidden, unique within this process).
-fn temp_sibling(path: &Path, tag: &str) -> PathBuf {
+/// A fresh name for a temporary file next to `path` (hidden, unique within this process):
+/// `.<file name>.<tag>-<pid>-<counter>`. [`crate::stale`] recognises exactly this pattern.
+pub(crate) fn temp_sibling(path: &Path, tag: &str) -> PathBuf {
     static COUNTER: AtomicU64 = AtomicU64::new(0);
     let name = path
         .file_name()
@@ -111,6 +122,58 @@ pub fn check_writable(path: &Path) -> Result<()> {
     Ok(())
 }
 
+/// A file written in full (and synced) under a temporary name next to its target, waiting to
+/// be renamed over it by [`PendingFile::commit`]. Dropped uncommitted, it removes itself.
+pub struct PendingFile {
+    temp: PathBuf,
+    path: PathBuf,
+    committed: bool,
+}
+
+impl PendingFile {
+    /// Writes `path`'s future content to a temporary file: `write` fills it, then it is
+    /// synced. On any error the temporary file is removed; `path` is never touched.
+    pub fn write(
+        path: &Path,
+        write: impl FnOnce(&mut BufWriter<File>) -> Result<()>,
+    ) -> Result<PendingFile> {
+        let pending = PendingFile {
+            temp: temp_sibling(path, "tmp"),
+            path: path.to_path_buf(),
+            committed: false,
+        };
+        (|| -> Result<()> {
+            let file = OpenOptions::new()
+                .write(true)
+                .create_new(true)
+                .open(&pending.temp)?;
+            let mut writer = BufWriter::new(file);
+            write(&mut writer)?;
+            let file = writer.into_inner().map_err(|e| e.into_error())?;
+            file.sync_all()?;
+            Ok(())
+        })()
+        .with_context(|| format!("cannot write {}", path.display()))?;
+        Ok(pending)
+    }
+
+    /// Renames the temporary file over the target (atomic within a file system).
+    pub fn commit(mut self) -> Result<()> {
+        fs::rename(&self.temp, &self.path)
+            .with_context(|| format!("cannot write {}", self.path.display()))?;
+        self.committed = true;
+        Ok(())
+    }
+}
+
+impl Drop for PendingFile {
+    fn drop(&mut self) {
+        if !self.committed {
+            let _ = fs::remove_file(&self.temp);
+        }
+    }
+}
+
 /// Writes a file atomically: `write` fills a temporary file in the same folder, which is then
 /// synced and renamed over `path`. On any error the temporary file is removed and `path` keeps
 /// its old content.
@@ -118,23 +181,7 @@ pub fn write_atomic(
     path: &Path,
     write: impl FnOnce(&mut BufWriter<File>) -> Result<()>,
 ) -> Result<()> {
-    let temp = temp_sibling(path, "tmp");
-    let result = (|| -> Result<()> {
-        let file = OpenOptions::new()
-            .write(true)
-            .create_new(true)
-            .open(&temp)?;
-        let mut writer = BufWriter::new(file);
-        write(&mut writer)?;
-        let file = writer.into_inner().map_err(|e| e.into_error())?;
-        file.sync_all()?;
-        fs::rename(&temp, path)?;
-        Ok(())
-    })();
-    if result.is_err() {
-        let _ = fs::remove_file(&temp);
-    }
-    result.with_context(|| format!("cannot write {}", path.display()))
+    PendingFile::write(path, write)?.commit()
 }
 
 /// The sRGB opto-electronic transfer function (IEC 61966-2-1): linear [0, 1] to encoded [0, 1].
@@ -176,8 +223,12 @@ pub fn to_srgb8(image: &Image) -> Vec<u8> {
 
 /// Writes interleaved 8-bit RGB as a PNG, atomically.
 pub fn write_png_rgb8(path: &Path, width: u32, height: u32, rgb: &[u8]) -> Result<()> {
+    pending_png_rgb8(path, width, height, rgb)?.commit()
+}
+
+fn pending_png_rgb8(path: &Path, width: u32, height: u32, rgb: &[u8]) -> Result<PendingFile> {
     use image::ImageEncoder;
-    write_atomic(path, |w| {
+    PendingFile::write(path, |w| {
         image::codecs::png::PngEncoder::new(w).write_image(
             rgb,
             width,
@@ -188,13 +239,24 @@ pub fn write_png_rgb8(path: &Path, width: u32, height: u32, rgb: &[u8]) -> Resul
     })
 }
 
-/// Writes an image as an sRGB 8-bit PNG, atomically.
+/// Writes an image as an sRGB 8-bit PNG, atomically (renders write PNG and EXR as a pair with
+/// [`write_outputs`]).
+#[cfg(test)]
 pub fn write_png(path: &Path, image: &Image) -> Result<()> {
-    write_png_rgb8(path, image.width, image.height, &to_srgb8(image))
+    pending_png(path, image)?.commit()
 }
 
-/// Writes an image as a linear RGB f32 OpenEXR file, atomically.
+fn pending_png(path: &Path, image: &Image) -> Result<PendingFile> {
+    pending_png_rgb8(path, image.width, image.height, &to_srgb8(image))
+}
+
+/// Writes an image as a linear RGB f32 OpenEXR file, atomically (see [`write_png`]).
+#[cfg(test)]
 pub fn write_exr(path: &Path, image: &Image) -> Result<()> {
+    pending_exr(path, image)?.commit()
+}
+
+fn pending_exr(path: &Path, image: &Image) -> Result<PendingFile> {
     use exr::prelude::{Image as ExrImage, SpecificChannels, WritableImage};
     let channels = SpecificChannels::rgb(|exr::math::Vec2(x, y)| {
         let p = image.get(x as u32, y as u32);
@@ -202,7 +264,7 @@ pub fn write_exr(path: &Path, image: &Image) -> Result<()> {
     });
     let exr_image =
         ExrImage::from_channels((image.width as usize, image.height as usize), channels);
-    write_atomic(path, |w| {
+    PendingFile::write(path, |w| {
         exr_image
             .write()
             .to_buffered(w)
@@ -210,10 +272,28 @@ pub fn write_exr(path: &Path, image: &Image) -> Result<()> {
     })
 }
 
-/// Writes both files of a render.
+/// Writes both files of a render, as a pair: both are written in full to temporary files
+/// first, and only then renamed over the targets, so a full disk or any other write error
+/// leaves the previous PNG and EXR both as they were (never a new PNG beside an old EXR).
+/// The error says which files were replaced.
 pub fn write_outputs(paths: &OutputPaths, image: &Image) -> Result<()> {
-    write_png(&paths.png, image)?;
-    write_exr(&paths.exr, image)
+    let kept = || {
+        format!(
+            "neither {} nor {} was replaced",
+            paths.png.display(),
+            paths.exr.display()
+        )
+    };
+    let png = pending_png(&paths.png, image).with_context(kept)?;
+    let exr = pending_exr(&paths.exr, image).with_context(kept)?;
+    png.commit().with_context(kept)?;
+    exr.commit().with_context(|| {
+        format!(
+            "{} was replaced but {} was not: the two files are from different renders",
+            paths.png.display(),
+            paths.exr.display()
+        )
+    })
 }
 
 /// Reads an image as linear RGB: an OpenEXR file (its R, G, B channels), a Radiance .hdr file

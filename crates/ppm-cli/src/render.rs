@@ -4,8 +4,8 @@ use crate::args::{RenderArgs, DEFAULT_ITERATIONS};
 use crate::error_log::{ErrorSample, ErrorTracker};
 use crate::output::{self, OutputPaths};
 use crate::progress::{peak_rss_bytes, Progress, Summary};
-use crate::setup;
 use crate::signal::Interrupt;
+use crate::{guard, memory, setup};
 use anyhow::{Context, Result};
 use ppm_core::integrator::{PassTimes, Renderer};
 use ppm_core::scene::Scene;
@@ -49,6 +49,11 @@ pub struct LoopTotals {
 /// Renders iterations until `stop` says so or `interrupt` is raised, calling `after` after each
 /// with the renderer, the totals and whether it was the last iteration. The time `after` takes
 /// (error measurement, checkpoints) is not render time.
+///
+/// An interrupt abandons the iteration in progress (its passes poll the flag), so a stop
+/// request is seen within one parallel work item even when an iteration is very long; the
+/// renderer's image stays the average of the finished iterations. `after` is then called once
+/// more with `last` set, for the final measurement, if any iteration finished.
 pub fn render_loop(
     scene: &Scene,
     renderer: &mut Renderer,
@@ -59,7 +64,12 @@ pub fn render_loop(
     let mut totals = LoopTotals::default();
     while !stop.done(totals.iterations, totals.seconds) && !interrupt.requested() {
         let start = Instant::now();
-        let stats = renderer.iterate(scene);
+        let Some(stats) = renderer.iterate_until(scene, &|| interrupt.requested()) else {
+            if totals.iterations > 0 {
+                after(renderer, &totals, true)?;
+            }
+            break;
+        };
         totals.seconds += start.elapsed().as_secs_f64();
         totals.iterations += 1;
         totals.rays += stats.rays;
@@ -82,12 +92,19 @@ struct Checkpoints {
 }
 
 impl Checkpoints {
-    fn maybe_write(&mut self, renderer: &Renderer, paths: &OutputPaths) -> Result<()> {
+    /// A failed checkpoint (a full disk, a removed folder) is a warning, not the end of the
+    /// render: the previous checkpoint's files are intact (both are replaced together or not
+    /// at all), the render goes on, and the next checkpoint or the final write tries again.
+    fn maybe_write(&mut self, renderer: &Renderer, paths: &OutputPaths) {
         if self.last.elapsed() >= self.every {
-            output::write_outputs(paths, &renderer.image()).context("writing a checkpoint")?;
+            if let Err(e) = output::write_outputs(paths, &renderer.image()) {
+                status!(
+                    "\nwarning: checkpoint not written: {e:#}; the last good checkpoint is kept \
+                     and rendering goes on"
+                );
+            }
             self.last = Instant::now();
         }
-        Ok(())
     }
 }
 
@@ -105,6 +122,12 @@ pub fn run(args: &RenderArgs, interrupt: &Interrupt) -> Result<Outcome> {
     let scene_arg = args.scene.as_deref().context("no scene file given")?;
     let scene_path = setup::locate_scene(scene_arg)?;
     let paths = output::output_paths(args.output.as_deref(), &scene_path)?;
+    let mut inputs = vec![("scene file", scene_path.as_path())];
+    inputs.extend(args.reference.as_deref().map(|r| ("--reference", r)));
+    guard::refuse_overwriting_inputs(&paths, &inputs)?;
+    for stale in guard::clean_stale_temporaries(&paths) {
+        status!("removed {}, left by a run that was killed", stale.display());
+    }
     // Fail now, not after an hour of rendering.
     output::check_writable(&paths.png)?;
     output::check_writable(&paths.exr)?;
@@ -124,6 +147,7 @@ pub fn run(args: &RenderArgs, interrupt: &Interrupt) -> Result<Outcome> {
         reference.as_ref().map(|r| (r.width, r.height)),
     )?;
     let settings = setup::render_settings(&scene, args.algorithm, &args.settings);
+    memory::check(&scene, &settings)?;
     let stop = StopRule {
         iterations: args.iterations.or(if args.time_limit.is_some() {
             None
@@ -166,7 +190,7 @@ pub fn run(args: &RenderArgs, interrupt: &Interrupt) -> Result<Outcome> {
                         }
                     }
                     if let Some(checkpoints) = &mut checkpoints {
-                        checkpoints.maybe_write(renderer, &paths)?;
+                        checkpoints.maybe_write(renderer, &paths);
                     }
                     Ok(())
                 },
@@ -181,6 +205,17 @@ pub fn run(args: &RenderArgs, interrupt: &Interrupt) -> Result<Outcome> {
             ))
         })??;
 
+    if totals.iterations == 0 {
+        // Stopped during loading or the first iteration: an image of no iteration is black,
+        // and must not replace the previous render of the same name.
+        status!(
+            "stopped before the first iteration finished: nothing written ({} and {} left as \
+             they were)",
+            paths.png.display(),
+            paths.exr.display()
+        );
+        return Ok(Outcome::Interrupted);
+    }
     output::write_outputs(&paths, &image)?;
     status!("wrote {} and {}", paths.png.display(), paths.exr.display());
     let camera = &scene.camera;

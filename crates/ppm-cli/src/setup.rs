@@ -3,12 +3,25 @@
 
 use crate::args::{AlgorithmArg, SettingsArgs};
 use anyhow::{bail, Context, Result};
-use ppm_core::integrator::RenderSettings;
+use ppm_core::integrator::{RenderSettings, MAX_DEPTH};
 use ppm_core::scene::Scene;
 use std::path::{Path, PathBuf};
 
-/// The scene file a command-line argument names, or an error naming every path tried.
+/// The scene file a command-line argument names, or an error naming every path tried. A path
+/// that exists but is no regular file (a FIFO, /dev/zero, a symbolic-link loop) is reported as
+/// what it is, not as "not found".
 pub fn locate_scene(arg: &Path) -> Result<PathBuf> {
+    if std::fs::symlink_metadata(arg).is_ok() {
+        match std::fs::metadata(arg) {
+            Err(e) => bail!("cannot read scene file {}: {e}", arg.display()),
+            Ok(meta) if !meta.is_file() && !meta.is_dir() => bail!(
+                "scene file {} is {}, not a regular file",
+                arg.display(),
+                ppm_scene::obj::file_kind(&meta.file_type())
+            ),
+            Ok(_) => {}
+        }
+    }
     let path = ppm_scene::resolve_scene_path(arg);
     if path.is_file() {
         return Ok(path);
@@ -110,6 +123,13 @@ pub fn apply_overrides(
     settings.seed = args.seed;
     if let Some(v) = args.max_depth {
         settings.max_depth = v;
+    }
+    if settings.max_depth > MAX_DEPTH {
+        status!(
+            "warning: max_depth {} is above the supported {MAX_DEPTH} bounces; using {MAX_DEPTH}",
+            settings.max_depth
+        );
+        settings.max_depth = MAX_DEPTH;
     }
     if let Some(v) = args.photons {
         settings.photons = v;

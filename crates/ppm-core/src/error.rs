@@ -18,6 +18,14 @@ pub enum SceneError {
         value: String,
         why: String,
     },
+    /// A light whose power (per channel, in watts) is not finite in f32 or exceeds
+    /// [`crate::light::MAX_LIGHT_POWER`]: photon fluxes and density estimates would overflow
+    /// to infinity and be dropped, and the light would render black.
+    #[error(
+        "{light}: emitted power {power:e} W exceeds the supported {max:e} W \
+         (the renderer computes in f32; lower the emission or intensity, or scale the scene)"
+    )]
+    LightPower { light: String, power: f64, max: f64 },
     /// A primitive names a material index that does not exist.
     #[error("material index {0} is out of range")]
     MissingMaterial(u32),

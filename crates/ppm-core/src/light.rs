@@ -9,6 +9,13 @@ use crate::sampling::{cosine_hemisphere, uniform_sphere, uniform_triangle, Frame
 use glam::{Vec2, Vec3};
 use std::f32::consts::PI;
 
+/// The largest power per channel (W) a light may emit. f32 holds up to 3.4e38, but a photon's
+/// flux is divided by the light's selection probability and the density estimate multiplies
+/// it by 1/(pi r^2) (1e6 and more for small radii) and sums many photons; 1e20 W leaves those
+/// steps about 18 orders of magnitude of headroom, and no physically scaled scene comes near
+/// it (a 100 W bulb is 1e2 W; the sun, 3.8e26 W, must be modelled by its irradiance).
+pub const MAX_LIGHT_POWER: f32 = 1e20;
+
 /// The solid-angle pdf d^2 / (A cos_l) of a point chosen uniformly on an area-A light, seen
 /// from distance d at cosine cos_l to its normal; 0 when the point faces away or the pdf is
 /// not finite (`sample_direct` produces no such samples).
@@ -102,6 +109,22 @@ impl Light {
         }
     }
 
+    /// `Ok` if every channel of [`Light::power`] is finite and at most [`MAX_LIGHT_POWER`];
+    /// else the power (computed again in f64, so an overflowing one is reported by value).
+    pub fn check_power(&self) -> Result<(), f64> {
+        let power = self.power();
+        if power.is_finite() && power.max_element() <= MAX_LIGHT_POWER {
+            return Ok(());
+        }
+        let pi = std::f64::consts::PI;
+        let (scale, value) = match self {
+            Light::Triangle { area, le, .. } => (pi * *area as f64, le.max_element()),
+            Light::Sphere { sphere, le, .. } => (pi * sphere.area() as f64, le.max_element()),
+            Light::Point(p) => (4.0 * pi, p.intensity.max_element()),
+        };
+        Err(scale * value as f64)
+    }
+
     /// Surface area of an area light (0 for a point light).
     #[inline]
     fn area(&self) -> f32 {
@@ -178,6 +201,13 @@ impl Light {
             }
         }
     }
+
+    /// The largest power per channel (W) a light may emit. f32 holds up to 3.4e38, but a photon's
+    /// flux is divided by the light's selection probability and the density estimate multiplies
+    /// it by 1/(pi r^2) (1e6 and more for small radii) and sums many photons; 1e20 W leaves those
+    /// steps about 18 orders of magnitude of headroom, and no physically scaled scene comes near
+    /// it (a 100 W bulb is 1e2 W; the sun, 3.8e26 W, must be modelled by its irradiance).
+    pub const MAX_LIGHT_POWER: f32 = 1e20;
 
     /// The solid-angle pdf with which [`Light::sample_direct`] from `p` would produce the point
     /// `q` with emitting normal `n` (not counting the choice of the light); 0 for point lights.

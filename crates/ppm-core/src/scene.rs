@@ -146,6 +146,18 @@ impl SceneBuilder {
             }
         }
         lights.extend(self.point_lights.iter().map(|p| Light::Point(*p)));
+        // Powers are checked where they are computed: an overflowing one would give NaN
+        // selection weights and infinite photon fluxes, which the film drops: a black render.
+        let n_area = lights.len() - self.point_lights.len();
+        for (i, light) in lights.iter().enumerate() {
+            if let Err(power) = light.check_power() {
+                return Err(SceneError::LightPower {
+                    light: self.describe_light(light, i.saturating_sub(n_area), &geometry),
+                    power,
+                    max: crate::light::MAX_LIGHT_POWER as f64,
+                });
+            }
+        }
         let weights: Vec<f32> = lights
             .iter()
             .map(|l| l.power().element_sum() / 3.0)
@@ -160,6 +172,33 @@ impl SceneBuilder {
             origin,
             prim_light,
         })
+    }
+}
+
+impl SceneBuilder {
+    /// A light named for an error message: its kind and primitive (area lights) or index
+    /// among the point lights (`point_index`), and its material or intensity.
+    fn describe_light(&self, light: &Light, point_index: usize, geometry: &Geometry) -> String {
+        let material = |m: u32| {
+            let name = &self.materials[m as usize].name;
+            if name.is_empty() {
+                format!("material {m}")
+            } else {
+                format!("material `{name}`")
+            }
+        };
+        match light {
+            Light::Triangle { prim, .. } => {
+                format!(
+                    "emissive triangle {prim} ({})",
+                    material(geometry.triangle(*prim).1)
+                )
+            }
+            Light::Sphere { sphere, prim, .. } => {
+                format!("emissive sphere {prim} ({})", material(sphere.material))
+            }
+            Light::Point(p) => format!("point light {point_index} (intensity {})", p.intensity),
+        }
     }
 }
 

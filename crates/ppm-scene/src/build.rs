@@ -8,6 +8,7 @@ use glam::Vec3;
 use ppm_core::bsdf::Bsdf;
 use ppm_core::camera::Camera;
 use ppm_core::geometry::{Sphere, TriangleMesh};
+use ppm_core::integrator::MAX_DEPTH;
 use ppm_core::light::PointLight;
 use ppm_core::material::Material;
 use ppm_core::scene::{RenderDefaults, SceneBuilder};
@@ -120,7 +121,15 @@ pub fn build(
     let mut defaults = RenderDefaults::default();
     if let Some(r) = file.render {
         if let Some(d) = r.max_depth {
-            defaults.max_depth = d.0;
+            defaults.max_depth = d.0.min(MAX_DEPTH);
+            if d.0 > MAX_DEPTH {
+                warnings.push(format!(
+                    "{}: render.max_depth: {} is above the supported {MAX_DEPTH} bounces; \
+                     using {MAX_DEPTH}",
+                    path.display(),
+                    d.0
+                ));
+            }
         }
         if let Some(p) = r.photons {
             defaults.photons = p.0;

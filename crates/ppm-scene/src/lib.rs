@@ -20,12 +20,14 @@
 mod build;
 mod error;
 pub mod mtl;
+mod nesting;
 pub mod obj;
 mod values;
 mod yaml;
 
 pub use build::DEFAULT_RESOLUTION;
 pub use error::LoadError;
+pub use nesting::MAX_NESTING;
 
 use ppm_core::scene::{Scene, SceneBuilder};
 use std::path::{Path, PathBuf};
@@ -56,6 +58,9 @@ pub fn load_scene_builder(path: &Path) -> Result<(SceneBuilder, Vec<String>), Lo
 /// Like [`load_scene_builder`] for scene text already in memory; `path` names it in messages
 /// and relative file names (meshes) are resolved against its folder.
 pub fn parse_scene(text: &str, path: &Path) -> Result<(SceneBuilder, Vec<String>), LoadError> {
+    // A UTF-8 byte order mark (written by some Windows editors) is not part of the YAML.
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+    nesting::check_nesting(text, path)?;
     let file: yaml::SceneFile = serde_yaml::from_str(text).map_err(|e| LoadError::yaml(path, e))?;
     let mut warnings = Vec::new();
     let builder = build::build(file, path, &mut warnings)?;

@@ -80,6 +80,9 @@ pub type Point = Triple<Finite>;
 /// A positive whole number (photons per iteration, path depth).
 pub struct Count(pub u32);
 
+/// A path depth in bounces: a whole number >= 0 (0: only emission seen directly).
+pub struct Depth(pub u32);
+
 /// An image size `[width, height]`, each side in 1..=MAX_RESOLUTION.
 pub struct Resolution(pub u32, pub u32);
 
@@ -181,6 +184,30 @@ impl<'de> Deserialize<'de> for Count {
                 }
             }
             fn visit_i64<E: de::Error>(self, x: i64) -> Result<Count, E> {
+                match u64::try_from(x) {
+                    Ok(n) => self.visit_u64(n),
+                    Err(_) => Err(E::invalid_value(de::Unexpected::Signed(x), &self)),
+                }
+            }
+        }
+        d.deserialize_u64(V)
+    }
+}
+
+impl<'de> Deserialize<'de> for Depth {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct V;
+        impl Visitor<'_> for V {
+            type Value = Depth;
+            fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+                write!(f, "a whole number >= 0 (at most {})", u32::MAX)
+            }
+            fn visit_u64<E: de::Error>(self, x: u64) -> Result<Depth, E> {
+                u32::try_from(x)
+                    .map(Depth)
+                    .map_err(|_| E::invalid_value(de::Unexpected::Unsigned(x), &self))
+            }
+            fn visit_i64<E: de::Error>(self, x: i64) -> Result<Depth, E> {
                 match u64::try_from(x) {
                     Ok(n) => self.visit_u64(n),
                     Err(_) => Err(E::invalid_value(de::Unexpected::Signed(x), &self)),

@@ -5,7 +5,8 @@
 //! of errors inside them. Which fields a type takes is checked afterwards in `build.rs`.
 
 use crate::values::{
-    Alpha, Count, FieldOfView, NonNegative, Num, Point, Positive, Reflectance, Resolution, Triple,
+    Alpha, Count, Depth, FieldOfView, NonNegative, Num, Point, Positive, Reflectance, Resolution,
+    Triple,
 };
 use serde::de::{self, DeserializeSeed, Deserializer, MapAccess, Visitor};
 use serde::Deserialize;
@@ -108,7 +109,7 @@ pub struct LightDesc {
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct RenderDesc {
-    pub max_depth: Option<Count>,
+    pub max_depth: Option<Depth>,
     pub photons: Option<Count>,
     pub radius: Option<Num<Positive>>,
     pub alpha: Option<Num<Alpha>>,

@@ -6,6 +6,7 @@
 mod camera_path;
 mod camera_walk;
 mod direct;
+mod memory;
 mod path;
 mod ppm;
 mod settings;
@@ -16,12 +17,16 @@ pub use camera_walk::{
     walk, walk_to_visible_point, Next, RayCounters, Vertex, VisiblePoint, Walk, WalkParams,
 };
 pub use direct::{emission_mis_weight, estimate_direct};
+pub use memory::{
+    image_bytes, MemoryEstimate, MemoryItem, MemoryPart, BYTES_PER_PHOTON, BYTES_PER_PIXEL,
+    PHOTONS_PER_PATH,
+};
 pub use path::PathTracer;
 pub use ppm::{
     density_estimate, stores_photons, trace_light_path, GatherContext, PpmRenderer, RadiusSchedule,
     MAX_LIGHT_PATHS,
 };
-pub use settings::{Algorithm, DirectMode, LightStrategy, RenderSettings};
+pub use settings::{Algorithm, DirectMode, LightStrategy, RenderSettings, MAX_DEPTH};
 pub use shading::ShadingFrame;
 
 use crate::film::Image;
@@ -109,11 +114,36 @@ impl Renderer {
         }
     }
 
+    /// What [`Renderer::new`] will allocate for `scene` with `settings`, before allocating it.
+    pub fn memory_estimate(scene: &Scene, settings: &RenderSettings) -> MemoryEstimate {
+        let (w, h) = (scene.camera.width, scene.camera.height);
+        match settings.algorithm {
+            Algorithm::Path => PathTracer::memory_estimate(w, h, settings),
+            Algorithm::Ppm => PpmRenderer::memory_estimate(w, h, settings),
+        }
+    }
+
     /// Renders one more iteration.
     pub fn iterate(&mut self, scene: &Scene) -> IterationStats {
         match self {
             Renderer::Path(r) => r.iterate(scene),
             Renderer::Ppm(r) => r.iterate(scene),
+        }
+    }
+
+    /// Renders one more iteration unless `stop` returns true while it runs: the passes ask
+    /// `stop` before each parallel work item (a few hundred paths), and an iteration during
+    /// which it said yes is abandoned whole and `None` returned. The film, the radius schedule
+    /// and the iteration count are then as before the call, so [`Renderer::image`] stays the
+    /// average of complete iterations and the next call renders the same iteration again.
+    pub fn iterate_until<F: Fn() -> bool + Sync>(
+        &mut self,
+        scene: &Scene,
+        stop: &F,
+    ) -> Option<IterationStats> {
+        match self {
+            Renderer::Path(r) => r.iterate_until(scene, stop),
+            Renderer::Ppm(r) => r.iterate_until(scene, stop),
         }
     }
 

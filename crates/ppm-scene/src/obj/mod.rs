@@ -185,11 +185,38 @@ pub(crate) fn read_text(path: &Path, what: &str) -> Result<String, LoadError> {
     if !meta.is_file() {
         return Err(io(std::io::Error::new(
             std::io::ErrorKind::InvalidInput,
-            "not a regular file",
+            format!("it is {}, not a regular file", file_kind(&meta.file_type())),
         )));
     }
     let bytes = std::fs::read(path).map_err(io)?;
     Ok(String::from_utf8_lossy(&bytes).into_owned())
+}
+
+/// What a non-regular file is, for messages: "a folder", "a FIFO (named pipe)"...
+pub fn file_kind(kind: &std::fs::FileType) -> &'static str {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::FileTypeExt;
+        if kind.is_fifo() {
+            return "a FIFO (named pipe)";
+        }
+        if kind.is_char_device() {
+            return "a character device";
+        }
+        if kind.is_block_device() {
+            return "a block device";
+        }
+        if kind.is_socket() {
+            return "a socket";
+        }
+    }
+    if kind.is_dir() {
+        "a folder"
+    } else if kind.is_symlink() {
+        "a symbolic link"
+    } else {
+        "a special file"
+    }
 }
 
 /// Loads the MTL files of one `mtllib` statement. A missing file is a warning (its materials

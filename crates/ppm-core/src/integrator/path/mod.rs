@@ -6,12 +6,16 @@
 mod tracer;
 
 use super::camera_walk::RayCounters;
-use super::{IterationStats, PassTimes, RenderSettings, Stopwatch};
+use super::{
+    image_bytes, IterationStats, MemoryEstimate, MemoryPart, PassTimes, RenderSettings, Stopwatch,
+    MAX_DEPTH,
+};
 use crate::film::Film;
 use crate::sampling::Rng;
 use crate::scene::Scene;
 use glam::{Vec2, Vec3};
 use rayon::prelude::*;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 /// Rows per parallel work item: small enough to balance two to many threads, large enough to
 /// amortise scheduling.
@@ -26,8 +30,10 @@ pub struct PathTracer {
 }
 
 impl PathTracer {
-    /// A fresh render.
+    /// A fresh render; `max_depth` is clamped to [`MAX_DEPTH`].
     pub fn new(scene: &Scene, settings: RenderSettings) -> Self {
+        let mut settings = settings;
+        settings.max_depth = settings.max_depth.min(MAX_DEPTH);
         let (w, h) = (scene.camera.width, scene.camera.height);
         PathTracer {
             settings,
@@ -36,15 +42,37 @@ impl PathTracer {
         }
     }
 
+    /// What [`PathTracer::new`] allocates for a `width` x `height` image: the per-pixel
+    /// buffers only.
+    pub fn memory_estimate(width: u32, height: u32, _settings: &RenderSettings) -> MemoryEstimate {
+        let mut estimate = MemoryEstimate::default();
+        estimate.add(MemoryPart::Image, image_bytes(width, height));
+        estimate
+    }
+
     /// Traces one path through every pixel and adds the result to the film.
     ///
     /// The pixel estimate is a box-filtered one: a uniformly jittered position in the pixel.
     /// Random streams are keyed by (seed, iteration, pixel), so the image does not depend on
     /// the number of threads.
     pub fn iterate(&mut self, scene: &Scene) -> IterationStats {
+        match self.iterate_until(scene, &|| false) {
+            Some(stats) => stats,
+            None => unreachable!("an iteration that is never asked to stop completes"),
+        }
+    }
+
+    /// [`PathTracer::iterate`], abandoned (film untouched, `None`) if `stop` says yes before
+    /// one of the iteration's tiles starts.
+    pub fn iterate_until<F: Fn() -> bool + Sync>(
+        &mut self,
+        scene: &Scene,
+        stop: &F,
+    ) -> Option<IterationStats> {
         let iteration = self.film.iterations();
         let width = scene.camera.width as usize;
         let settings = &self.settings;
+        let abandoned = AtomicBool::new(false);
         let mut clock = Stopwatch::start();
         let counters = self
             .estimates
@@ -52,6 +80,10 @@ impl PathTracer {
             .enumerate()
             .map(|(tile, rows)| {
                 let mut counters = RayCounters::default();
+                if stop() {
+                    abandoned.store(true, Ordering::Relaxed);
+                    return counters;
+                }
                 for (i, out) in rows.iter_mut().enumerate() {
                     let pixel = tile * width * TILE_ROWS + i;
                     let mut rng = Rng::new(settings.seed, iteration, pixel as u64);
@@ -63,6 +95,10 @@ impl PathTracer {
                 counters
             })
             .reduce(RayCounters::default, RayCounters::merge);
+        // The parallel iterator has joined: every store above is visible here.
+        if abandoned.load(Ordering::Relaxed) {
+            return None;
+        }
         let eye = clock.lap();
         let before = self.film.rejected();
         self.film.add_iteration(&self.estimates);
@@ -71,13 +107,13 @@ impl PathTracer {
             film: clock.lap(),
             ..Default::default()
         };
-        IterationStats {
+        Some(IterationStats {
             rays: counters.rays,
             shadow_rays: counters.shadow_rays,
             rejected: self.film.rejected() - before,
             passes,
             ..Default::default()
-        }
+        })
     }
 
     /// The per-pixel estimates of the last iteration alone (row-major), for variance

@@ -16,7 +16,10 @@ pub use photon_pass::{stores_photons, trace_light_path, MAX_LIGHT_PATHS};
 pub use radius::RadiusSchedule;
 
 use super::camera_walk::RayCounters;
-use super::{IterationStats, PassTimes, RenderSettings, Stopwatch};
+use super::{
+    image_bytes, IterationStats, MemoryEstimate, MemoryPart, PassTimes, RenderSettings, Stopwatch,
+    BYTES_PER_PHOTON, MAX_DEPTH, PHOTONS_PER_PATH,
+};
 use crate::film::Film;
 use crate::photon::{HashGrid, Kernel, PhotonBuffer};
 use crate::scene::Scene;
@@ -24,6 +27,7 @@ use eye_pass::trace_eye_path;
 use glam::Vec3;
 use photon_pass::PhotonCounters;
 use rayon::prelude::*;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 /// Light paths per parallel work item of the photon pass.
 const PATHS_PER_TASK: u32 = 512;
@@ -42,13 +46,15 @@ pub struct PpmRenderer {
 }
 
 impl PpmRenderer {
-    /// A fresh render. The number of light paths is capped at [`MAX_LIGHT_PATHS`].
+    /// A fresh render. The number of light paths is capped at [`MAX_LIGHT_PATHS`] and
+    /// `max_depth` at [`MAX_DEPTH`].
     pub fn new(scene: &Scene, settings: RenderSettings) -> Self {
         let mut settings = settings;
         settings.photons = settings.photons.clamp(1, MAX_LIGHT_PATHS);
+        settings.max_depth = settings.max_depth.min(MAX_DEPTH);
         let (w, h) = (scene.camera.width, scene.camera.height);
-        // About 3 photons per light path in a closed box with albedo ~0.7; grown on demand.
-        let capacity = settings.photons as usize * 4;
+        // Grown on demand when a scene stores more photons per path.
+        let capacity = settings.photons as usize * PHOTONS_PER_PATH;
         PpmRenderer {
             schedule: RadiusSchedule::new(settings.radius, settings.alpha),
             settings,
@@ -59,11 +65,32 @@ impl PpmRenderer {
         }
     }
 
+    /// What [`PpmRenderer::new`] allocates for a `width` x `height` image and `settings`:
+    /// the per-pixel buffers, and the photon buffer and hash grid sized for
+    /// [`PHOTONS_PER_PATH`] photons per light path (both grow if a scene stores more).
+    pub fn memory_estimate(width: u32, height: u32, settings: &RenderSettings) -> MemoryEstimate {
+        let paths = settings.photons.clamp(1, MAX_LIGHT_PATHS) as u64;
+        let mut estimate = MemoryEstimate::default();
+        estimate.add(MemoryPart::Image, image_bytes(width, height));
+        estimate.add(
+            MemoryPart::Photons,
+            paths * PHOTONS_PER_PATH as u64 * BYTES_PER_PHOTON,
+        );
+        estimate
+    }
+
     /// The photon pass: all light paths of this iteration, in parallel, into the shared buffer.
     /// If the buffer overflows, it grows and the pass is redone: light paths are keyed by
-    /// (seed, iteration, path) so the redone pass stores exactly the same photons.
-    fn photon_pass(&mut self, scene: &Scene, iteration: u64) -> PhotonCounters {
+    /// (seed, iteration, path) so the redone pass stores exactly the same photons. `None` if
+    /// `stop` said yes before one of the work items (the pass is then incomplete).
+    fn photon_pass<F: Fn() -> bool + Sync>(
+        &mut self,
+        scene: &Scene,
+        iteration: u64,
+        stop: &F,
+    ) -> Option<PhotonCounters> {
         let paths = self.settings.photons;
+        let abandoned = AtomicBool::new(false);
         loop {
             self.photons.clear();
             let buffer = &self.photons;
@@ -73,6 +100,10 @@ impl PpmRenderer {
                 .into_par_iter()
                 .map(|task| {
                     let mut counters = PhotonCounters::default();
+                    if stop() {
+                        abandoned.store(true, Ordering::Relaxed);
+                        return counters;
+                    }
                     let mut writer = buffer.writer();
                     let end = ((task + 1) * PATHS_PER_TASK).min(paths);
                     for path in task * PATHS_PER_TASK..end {
@@ -91,8 +122,12 @@ impl PpmRenderer {
                     rays: a.rays + b.rays,
                     photons: a.photons + b.photons,
                 });
+            // The parallel iterator has joined: every store above is visible here.
+            if abandoned.load(Ordering::Relaxed) {
+                return None;
+            }
             if !self.photons.overflowed() {
-                return counters;
+                return Some(counters);
             }
             let needed = self.photons.pushed();
             self.photons.grow(needed + needed / 4);
@@ -101,11 +136,24 @@ impl PpmRenderer {
 
     /// Renders one iteration.
     pub fn iterate(&mut self, scene: &Scene) -> IterationStats {
+        match self.iterate_until(scene, &|| false) {
+            Some(stats) => stats,
+            None => unreachable!("an iteration that is never asked to stop completes"),
+        }
+    }
+
+    /// [`PpmRenderer::iterate`], abandoned (film and radius untouched, `None`) if `stop` says
+    /// yes before one of the photon or eye pass's work items starts.
+    pub fn iterate_until<F: Fn() -> bool + Sync>(
+        &mut self,
+        scene: &Scene,
+        stop: &F,
+    ) -> Option<IterationStats> {
         let iteration = self.film.iterations();
         let radius = self.schedule.radius();
         let mut passes = PassTimes::default();
         let mut clock = Stopwatch::start();
-        let photon_counters = self.photon_pass(scene, iteration);
+        let photon_counters = self.photon_pass(scene, iteration, stop)?;
         passes.photon = clock.lap();
         self.grid.build(self.photons.as_slice(), radius);
         passes.grid = clock.lap();
@@ -118,12 +166,17 @@ impl PpmRenderer {
         };
         let width = scene.camera.width as usize;
         let settings = &self.settings;
+        let abandoned = AtomicBool::new(false);
         let eye = self
             .estimates
             .par_chunks_mut(PIXELS_PER_TASK)
             .enumerate()
             .map(|(task, pixels)| {
                 let mut counters = RayCounters::default();
+                if stop() {
+                    abandoned.store(true, Ordering::Relaxed);
+                    return counters;
+                }
                 for (i, out) in pixels.iter_mut().enumerate() {
                     let pixel = task * PIXELS_PER_TASK + i;
                     *out = trace_eye_path(
@@ -139,13 +192,17 @@ impl PpmRenderer {
                 counters
             })
             .reduce(RayCounters::default, RayCounters::merge);
+        // Joined: the stores above are visible. The grid is rebuilt by the next iteration.
+        if abandoned.load(Ordering::Relaxed) {
+            return None;
+        }
         passes.eye = clock.lap();
 
         let before = self.film.rejected();
         self.film.add_iteration(&self.estimates);
         passes.film = clock.lap();
         self.schedule.advance();
-        IterationStats {
+        Some(IterationStats {
             rays: eye.rays + photon_counters.rays,
             photon_rays: photon_counters.rays,
             shadow_rays: eye.shadow_rays,
@@ -154,7 +211,7 @@ impl PpmRenderer {
             radius,
             rejected: self.film.rejected() - before,
             passes,
-        }
+        })
     }
 
     /// The per-pixel estimates of the last iteration alone (row-major), for variance

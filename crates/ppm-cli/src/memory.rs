@@ -1,0 +1,138 @@
+//! Refusing a render that cannot fit in memory, before allocating it: the integrator states
+//! what it will allocate ([`Renderer::memory_estimate`]), this compares it with the memory
+//! available, and a render that does not fit ends with an error naming the setting to lower,
+//! instead of "memory allocation failed" and SIGABRT half-way.
+
+use anyhow::{bail, Context, Result};
+use ppm_core::integrator::{MemoryPart, RenderSettings, Renderer};
+use ppm_core::scene::Scene;
+
+/// Environment variable that replaces the available memory (bytes, or with a K, M, G or T
+/// suffix in powers of 1024): set it to allow a render the check refuses, or to test.
+pub const MEMORY_LIMIT_VAR: &str = "PPM_MEMORY_LIMIT";
+
+/// Bytes per pixel of the output step on top of the integrator's estimate: the 8-bit PNG.
+const OUTPUT_BYTES_PER_PIXEL: u64 = 3;
+
+/// Where the limit came from and its value.
+struct Limit {
+    bytes: u64,
+    source: String,
+}
+
+/// Errors if the render of `scene` with `settings` needs more memory than is available.
+pub fn check(scene: &Scene, settings: &RenderSettings) -> Result<()> {
+    let Some(limit) = limit()? else {
+        return Ok(()); // nothing known about the machine: no check
+    };
+    let estimate = Renderer::memory_estimate(scene, settings);
+    let (w, h) = (scene.camera.width, scene.camera.height);
+    let total = estimate
+        .total()
+        .saturating_add(w as u64 * h as u64 * OUTPUT_BYTES_PER_PIXEL);
+    if total <= limit.bytes {
+        return Ok(());
+    }
+    let parts: Vec<String> = estimate
+        .items
+        .iter()
+        .map(|item| format!("{} {}", part_name(item.part), gib(item.bytes)))
+        .collect();
+    let culprit = match estimate.largest().map(|item| item.part) {
+        Some(MemoryPart::Photons) => format!(
+            "--photons {} (light paths per iteration; or render.photons in the scene)",
+            settings.photons
+        ),
+        _ => format!("the resolution {w}x{h} (--width/--height, or the scene's resolution)"),
+    };
+    bail!(
+        "not enough memory: this render needs about {} ({}) but {} is available ({}); \
+         lower {culprit}, or set {MEMORY_LIMIT_VAR} to override",
+        gib(total),
+        parts.join(", "),
+        gib(limit.bytes),
+        limit.source
+    )
+}
+
+fn part_name(part: MemoryPart) -> &'static str {
+    match part {
+        MemoryPart::Image => "image buffers",
+        MemoryPart::Photons => "photon buffer and grid",
+    }
+}
+
+fn gib(bytes: u64) -> String {
+    format!("{:.2} GiB", bytes as f64 / (1u64 << 30) as f64)
+}
+
+/// The memory a render may use: [`MEMORY_LIMIT_VAR`] if set, else MemAvailable from
+/// /proc/meminfo; `None` where neither exists.
+fn limit() -> Result<Option<Limit>> {
+    if let Ok(value) = std::env::var(MEMORY_LIMIT_VAR) {
+        let bytes = parse_bytes(&value).with_context(|| {
+            format!("{MEMORY_LIMIT_VAR}={value}: expected a number of bytes, e.g. 8G or 500M")
+        })?;
+        return Ok(Some(Limit {
+            bytes,
+            source: format!("{MEMORY_LIMIT_VAR}={value}"),
+        }));
+    }
+    let Ok(meminfo) = std::fs::read_to_string("/proc/meminfo") else {
+        return Ok(None);
+    };
+    Ok(mem_available(&meminfo).map(|bytes| Limit {
+        bytes,
+        source: "MemAvailable in /proc/meminfo".to_string(),
+    }))
+}
+
+/// MemAvailable (given in kB) from the text of /proc/meminfo, in bytes.
+fn mem_available(meminfo: &str) -> Option<u64> {
+    let line = meminfo.lines().find(|l| l.starts_with("MemAvailable:"))?;
+    let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kb.saturating_mul(1024))
+}
+
+/// `123`, `64K`, `500M`, `8G`, `1T` (powers of 1024; an optional `B` or `iB` after the unit).
+fn parse_bytes(s: &str) -> Option<u64> {
+    let s = s.trim();
+    let s = s
+        .strip_suffix("iB")
+        .or_else(|| s.strip_suffix('B'))
+        .unwrap_or(s);
+    let (digits, shift) = match s.chars().last()?.to_ascii_uppercase() {
+        'K' => (&s[..s.len() - 1], 10),
+        'M' => (&s[..s.len() - 1], 20),
+        'G' => (&s[..s.len() - 1], 30),
+        'T' => (&s[..s.len() - 1], 40),
+        _ => (s, 0),
+    };
+    let n: u64 = digits.trim().parse().ok()?;
+    n.checked_mul(1u64 << shift)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn byte_sizes_parse() {
+        assert_eq!(parse_bytes("123"), Some(123));
+        assert_eq!(parse_bytes("64K"), Some(64 << 10));
+        assert_eq!(parse_bytes("500M"), Some(500 << 20));
+        assert_eq!(parse_bytes("8G"), Some(8 << 30));
+        assert_eq!(parse_bytes("8GiB"), Some(8 << 30));
+        assert_eq!(parse_bytes("2t"), Some(2 << 40));
+        for bad in ["", "G", "-1", "1.5G", "lots", "99999999999T"] {
+            assert_eq!(parse_bytes(bad), None, "{bad}");
+        }
+    }
+
+    #[test]
+    fn mem_available_is_read_in_bytes() {
+        let text = "MemTotal:       24000000 kB\nMemFree:  100 kB\nMemAvailable:   22000000 kB\n";
+        assert_eq!(mem_available(text), Some(22_000_000 * 1024));
+        assert_eq!(mem_available("MemTotal: 1 kB\n"), None);
+    }
+}

@@ -1,0 +1,517 @@
+//! Never losing a render (issue 17): stop signals, a stop before the first iteration, a pass
+//! that must see a stop request, full disks, memory refused up front, hostile inputs and
+//! files a render must not touch. Signals are real ones sent to a child `ppm` with `kill`.
+
+mod common;
+
+use common::*;
+use std::io::{BufRead, BufReader};
+use std::path::Path;
+use std::process::{Child, Output, Stdio};
+use std::sync::mpsc;
+use std::time::{Duration, Instant};
+
+/// A closed box of perfect mirrors lit by a point light: no path ever ends (no diffuse
+/// surface stores a photon or stops an eye path, Russian roulette never fires), so an
+/// iteration costs max_depth bounces for every pixel and light path.
+const MIRROR_BOX: &str = r#"
+camera: { position: [0.0, 1.0, 0.5], look_at: [0.0, 1.0, -1.0], up: [0.0, 1.0, 0.0], fov: 60.0 }
+resolution: [256, 256]
+materials:
+  mirror: { type: mirror, color: [1.0, 1.0, 1.0] }
+objects:
+  - { type: quad, corner: [-1, 0, -1], edge_u: [0, 0, 2], edge_v: [2, 0, 0], material: mirror }
+  - { type: quad, corner: [-1, 2, -1], edge_u: [2, 0, 0], edge_v: [0, 0, 2], material: mirror }
+  - { type: quad, corner: [-1, 0, -1], edge_u: [2, 0, 0], edge_v: [0, 2, 0], material: mirror }
+  - { type: quad, corner: [-1, 0, 1], edge_u: [0, 2, 0], edge_v: [2, 0, 0], material: mirror }
+  - { type: quad, corner: [-1, 0, -1], edge_u: [0, 2, 0], edge_v: [0, 0, 2], material: mirror }
+  - { type: quad, corner: [1, 0, -1], edge_u: [0, 0, 2], edge_v: [0, 2, 0], material: mirror }
+lights:
+  - { type: point, position: [0.0, 1.5, 0.0], intensity: [5.0, 5.0, 5.0] }
+render:
+  photons: 100000
+"#;
+
+/// Sends `signal` (TERM, HUP, INT...) to the child.
+fn kill(child: &Child, signal: &str) {
+    let status = std::process::Command::new("kill")
+        .args([&format!("-{signal}"), &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(status.success());
+}
+
+/// Spawns `ppm args` in `dir` with stderr read line by line into a channel.
+fn spawn(dir: &Path, args: &[&str]) -> (Child, mpsc::Receiver<String>) {
+    let mut child = ppm(dir).args(args).stderr(Stdio::piped()).spawn().unwrap();
+    let (send, receive) = mpsc::channel();
+    let stderr = child.stderr.take().unwrap();
+    std::thread::spawn(move || {
+        for line in BufReader::new(stderr).split(b'\n').map_while(Result::ok) {
+            let _ = send.send(String::from_utf8_lossy(&line).into_owned());
+        }
+    });
+    (child, receive)
+}
+
+/// Waits (at most two minutes, a guard against a hang, not a timing) for a stderr line
+/// containing `needle`; returns the lines read so far.
+fn wait_for_line(lines: &mpsc::Receiver<String>, needle: &str) -> String {
+    let mut seen = String::new();
+    let deadline = Instant::now() + Duration::from_secs(120);
+    while Instant::now() < deadline {
+        if let Ok(line) = lines.recv_timeout(Duration::from_millis(100)) {
+            seen.push_str(&line);
+            seen.push('\n');
+            if line.contains(needle) {
+                return seen;
+            }
+        }
+    }
+    panic!("no line with {needle:?} on stderr: {seen}");
+}
+
+/// Waits for the child to exit (a two-minute guard against a hang); returns its status and
+/// the rest of its stderr.
+fn finish(mut child: Child, lines: mpsc::Receiver<String>) -> (Option<i32>, String) {
+    let deadline = Instant::now() + Duration::from_secs(120);
+    loop {
+        if let Some(status) = child.try_wait().unwrap() {
+            std::thread::sleep(Duration::from_millis(50));
+            let rest: Vec<String> = lines.try_iter().collect();
+            return (status.code(), rest.join("\n"));
+        }
+        if Instant::now() > deadline {
+            let _ = child.kill();
+            panic!("ppm did not stop within two minutes of the stop request");
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}
+
+/// Polls (two-minute guard) until `path` exists.
+fn wait_for_file(path: &Path) {
+    let deadline = Instant::now() + Duration::from_secs(120);
+    while !path.exists() {
+        assert!(
+            Instant::now() < deadline,
+            "{} never appeared",
+            path.display()
+        );
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}
+
+/// SIGTERM (timeout, systemd, docker stop, batch schedulers) and SIGHUP (a closed terminal)
+/// stop a render like Ctrl-C: the finished iterations are written and the status is 130.
+#[cfg(unix)]
+#[test]
+fn sigterm_and_sighup_write_the_finished_iterations_and_exit_130() {
+    for signal in ["TERM", "HUP"] {
+        let dir = tempfile::tempdir().unwrap();
+        tiny_scene(dir.path());
+        let args = ["tiny.yml", "--time-limit", "1000", "--checkpoint", "0.01"];
+        let (child, lines) = spawn(dir.path(), &args);
+        // A checkpoint exists once an iteration has finished.
+        wait_for_file(&dir.path().join("tiny.exr"));
+        kill(&child, signal);
+        let (code, err) = finish(child, lines);
+        assert_eq!(code, Some(130), "SIG{signal}: {err}");
+        assert!(err.contains("wrote"), "SIG{signal}: {err}");
+        let (w, h, pixels) = read_exr(&dir.path().join("tiny.exr"));
+        assert_eq!((w, h), (16, 12));
+        assert!(pixels.iter().flatten().any(|v| *v > 0.0));
+        assert_eq!(
+            file_names(dir.path()),
+            ["tiny.exr", "tiny.png", "tiny.yml"],
+            "SIG{signal}: no temporary file left"
+        );
+    }
+}
+
+/// A stop during the first iteration (or the scene's loading) writes nothing: the previous
+/// render of the same name survives. The mirror box's first iteration is millions of
+/// bounces, so the stop arrives inside it, and the passes must see it (item 7): the test
+/// fails if the iteration is completed (files replaced) or never ends (the guard).
+#[cfg(unix)]
+#[test]
+fn a_stop_before_the_first_iteration_finishes_keeps_the_previous_files() {
+    for signal in ["INT", "TERM"] {
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::write(dir.path().join("mirror.yml"), MIRROR_BOX).unwrap();
+        std::fs::write(dir.path().join("shot.png"), b"previous png").unwrap();
+        std::fs::write(dir.path().join("shot.exr"), b"previous exr").unwrap();
+        let args = ["mirror.yml", "--max-depth", "4294967295", "-o", "shot"];
+        let (child, lines) = spawn(dir.path(), &args);
+        // Printed after loading, just before rendering starts.
+        let mut err = wait_for_line(&lines, "above the supported 1024");
+        kill(&child, signal);
+        let (code, rest) = finish(child, lines);
+        err.push_str(&rest);
+        assert_eq!(code, Some(130), "SIG{signal}: {err}");
+        assert!(err.contains("nothing written"), "SIG{signal}: {err}");
+        assert_eq!(
+            std::fs::read(dir.path().join("shot.png")).unwrap(),
+            b"previous png"
+        );
+        assert_eq!(
+            std::fs::read(dir.path().join("shot.exr")).unwrap(),
+            b"previous exr"
+        );
+        assert_eq!(
+            file_names(dir.path()),
+            ["mirror.yml", "shot.exr", "shot.png"]
+        );
+    }
+}
+
+/// The memory a render needs is estimated before allocating: a render that cannot fit is
+/// refused with the setting to lower and the two numbers, never an allocator abort.
+#[test]
+fn renders_that_cannot_fit_in_memory_are_refused_up_front() {
+    let dir = tempfile::tempdir().unwrap();
+    tiny_scene(dir.path());
+    let run_limited = |args: &[&str]| -> Output {
+        ppm(dir.path())
+            .args(args)
+            .env("PPM_MEMORY_LIMIT", "8G")
+            .output()
+            .unwrap()
+    };
+    let err = assert_fails(
+        &run_limited(&["tiny.yml", "--width", "16384", "--height", "16384"]),
+        1,
+    );
+    assert!(
+        err.contains("not enough memory")
+            && err.contains("16384x16384")
+            && err.contains("--width/--height")
+            && err.contains("8.00 GiB is available")
+            && err.contains("PPM_MEMORY_LIMIT"),
+        "{err}"
+    );
+    let err = assert_fails(&run_limited(&["tiny.yml", "--photons", "4294967295"]), 1);
+    assert!(
+        err.contains("not enough memory") && err.contains("--photons"),
+        "{err}"
+    );
+    // The same render fits with the override raised, and a small one fits 8 GiB.
+    assert_ok(&run_limited(&["tiny.yml", "-n", "1"]));
+    assert_eq!(file_names(dir.path()), ["tiny.exr", "tiny.png", "tiny.yml"]);
+}
+
+/// 100,000 levels of nesting fail at once with the file and line, before the YAML parser.
+#[test]
+fn deeply_nested_yaml_is_refused_with_its_place() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = format!("camera:\n  position: {}\n", "[".repeat(100_000));
+    std::fs::write(dir.path().join("deep.yml"), text).unwrap();
+    let err = assert_fails(&run(dir.path(), &["deep.yml"]), 1);
+    assert!(
+        err.contains("deep.yml:2:") && err.contains("64 levels"),
+        "{err}"
+    );
+    let text: String = (0..100_000).map(|_| "- ").collect::<String>() + "1\n";
+    std::fs::write(dir.path().join("items.yml"), text).unwrap();
+    let err = assert_fails(&run(dir.path(), &["items.yml"]), 1);
+    assert!(
+        err.contains("items.yml:1:") && err.contains("levels"),
+        "{err}"
+    );
+}
+
+/// A light whose power does not fit f32 arithmetic is an error naming it, never a silent
+/// black render.
+#[test]
+fn an_overflowing_light_power_is_an_error_naming_the_light() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = TINY_SCENE.replace(
+        "render:",
+        "lights:\n  - { type: point, position: [0, 1, 0], intensity: [1e37, 1e37, 1e37] }\nrender:",
+    );
+    std::fs::write(dir.path().join("hot.yml"), scene).unwrap();
+    let err = assert_fails(&run(dir.path(), &["hot.yml", "-n", "1"]), 1);
+    assert!(
+        err.contains("hot.yml") && err.contains("point light 0") && err.contains("power"),
+        "{err}"
+    );
+    let scene = TINY_SCENE.replace("emission: [8.0, 8.0, 8.0]", "emission: [1e35, 1e35, 1e35]");
+    std::fs::write(dir.path().join("hot_area.yml"), scene).unwrap();
+    let err = assert_fails(&run(dir.path(), &["hot_area.yml", "-n", "1"]), 1);
+    assert!(err.contains("material `light`"), "{err}");
+    assert_eq!(file_names(dir.path()), ["hot.yml", "hot_area.yml"]);
+}
+
+/// `max_depth` 0 means the same on the command line and in the scene file.
+#[test]
+fn max_depth_zero_is_accepted_alike_by_the_cli_and_the_scene_file() {
+    let dir = tempfile::tempdir().unwrap();
+    tiny_scene(dir.path());
+    let zero = TINY_SCENE.replace("max_depth: 6", "max_depth: 0");
+    std::fs::write(dir.path().join("zero.yml"), zero).unwrap();
+    for a in ["pt", "ppm"] {
+        let cli = run(
+            dir.path(),
+            &[
+                "tiny.yml",
+                "-a",
+                a,
+                "-n",
+                "2",
+                "--max-depth",
+                "0",
+                "-o",
+                "cli",
+            ],
+        );
+        assert_ok(&cli);
+        let yaml = run(dir.path(), &["zero.yml", "-a", a, "-n", "2", "-o", "yaml"]);
+        assert_ok(&yaml);
+        let cli = read_exr(&dir.path().join("cli.exr"));
+        let yaml = read_exr(&dir.path().join("yaml.exr"));
+        assert_eq!(cli, yaml, "-a {a}");
+    }
+}
+
+/// A scene file saved with a UTF-8 byte order mark loads.
+#[test]
+fn a_utf8_byte_order_mark_is_accepted() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("bom.yml"), format!("\u{feff}{TINY_SCENE}")).unwrap();
+    assert_ok(&run(dir.path(), &["bom.yml", "-n", "1"]));
+    assert!(dir.path().join("bom.exr").exists());
+}
+
+/// A path that exists but is no regular file is reported as what it is, not "not found".
+#[cfg(unix)]
+#[test]
+fn special_files_are_reported_as_what_they_are() {
+    let dir = tempfile::tempdir().unwrap();
+    let err = assert_fails(&run(dir.path(), &["/dev/zero"]), 1);
+    assert!(
+        err.contains("character device") && !err.contains("not found"),
+        "{err}"
+    );
+    let fifo = dir.path().join("pipe.yml");
+    assert!(std::process::Command::new("mkfifo")
+        .arg(&fifo)
+        .status()
+        .unwrap()
+        .success());
+    let err = assert_fails(&run(dir.path(), &["pipe.yml"]), 1);
+    assert!(err.contains("FIFO") && !err.contains("not found"), "{err}");
+    std::os::unix::fs::symlink("loop_b.yml", dir.path().join("loop_a.yml")).unwrap();
+    std::os::unix::fs::symlink("loop_a.yml", dir.path().join("loop_b.yml")).unwrap();
+    let err = assert_fails(&run(dir.path(), &["loop_a.yml"]), 1);
+    assert!(
+        err.contains("loop_a.yml") && err.contains("symbolic links") && !err.contains("not found"),
+        "{err}"
+    );
+}
+
+/// A dot in an output name is not always an extension: `-o shot.0001` writes
+/// shot.0001.png and shot.0001.exr.
+#[test]
+fn an_output_name_with_a_numbered_suffix_keeps_it() {
+    let dir = tempfile::tempdir().unwrap();
+    tiny_scene(dir.path());
+    assert_ok(&run(
+        dir.path(),
+        &["tiny.yml", "-n", "1", "-o", "shot.0001"],
+    ));
+    assert_eq!(
+        file_names(dir.path()),
+        ["shot.0001.exr", "shot.0001.png", "tiny.yml"]
+    );
+}
+
+/// `ppm scene.png` where scene.png is the YAML scene refuses to overwrite its own input.
+#[test]
+fn a_render_never_overwrites_its_own_scene_file() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("scene.png"), TINY_SCENE).unwrap();
+    let err = assert_fails(&run(dir.path(), &["scene.png", "-n", "1"]), 1);
+    assert!(
+        err.contains("scene.png") && err.contains("overwrite its own input"),
+        "{err}"
+    );
+    assert_eq!(
+        std::fs::read_to_string(dir.path().join("scene.png")).unwrap(),
+        TINY_SCENE
+    );
+    assert_eq!(file_names(dir.path()), ["scene.png"]);
+    // With another output name it renders.
+    assert_ok(&run(dir.path(), &["scene.png", "-n", "1", "-o", "render"]));
+}
+
+/// Hidden temporary files a killed run left behind are removed by the next run of the same
+/// output, but only stale ones of exactly our pattern.
+#[test]
+fn stale_temporary_files_of_a_killed_run_are_cleaned_up() {
+    let dir = tempfile::tempdir().unwrap();
+    tiny_scene(dir.path());
+    let hour_ago = std::time::SystemTime::now() - Duration::from_secs(3600);
+    // No process has a pid above 2^22 (Linux's pid_max limit).
+    let stale = [".tiny.png.tmp-999999999-0", ".tiny.exr.tmp-999999999-3"];
+    let kept_old = [
+        ".other.png.tmp-999999999-0",
+        ".tiny.png.tmp-x-0",
+        ".tiny.png.old",
+    ];
+    for name in stale.iter().chain(&kept_old) {
+        let file = std::fs::File::create(dir.path().join(name)).unwrap();
+        file.set_modified(hour_ago).unwrap();
+    }
+    // A fresh one may belong to a run writing right now (on another machine sharing the
+    // folder): kept.
+    std::fs::write(dir.path().join(".tiny.png.tmp-999999999-7"), b"fresh").unwrap();
+    let out = run(dir.path(), &["tiny.yml", "-n", "1"]);
+    assert_ok(&out);
+    assert!(
+        stderr(&out).contains(".tiny.png.tmp-999999999-0"),
+        "{}",
+        stderr(&out)
+    );
+    let mut expected = vec![
+        ".other.png.tmp-999999999-0",
+        ".tiny.png.old",
+        ".tiny.png.tmp-999999999-7",
+        ".tiny.png.tmp-x-0",
+        "tiny.exr",
+        "tiny.png",
+        "tiny.yml",
+    ];
+    expected.sort();
+    assert_eq!(file_names(dir.path()), expected);
+}
+
+/// `compare` with a NaN in the reference is an error naming the file, not "relMSE NaN".
+#[test]
+fn compare_refuses_a_reference_with_nan() {
+    let dir = tempfile::tempdir().unwrap();
+    write_exr(&dir.path().join("a.exr"), 4, 3, |_, _| [0.5; 3]);
+    write_exr(&dir.path().join("b.exr"), 4, 3, |x, y| {
+        if (x, y) == (2, 1) {
+            [f32::NAN, 1.0, 1.0]
+        } else {
+            [1.0; 3]
+        }
+    });
+    let err = assert_fails(&run(dir.path(), &["compare", "a.exr", "b.exr"]), 1);
+    assert!(
+        err.contains("b.exr") && err.contains("NaN") && err.contains("(2, 1)"),
+        "{err}"
+    );
+    let err = assert_fails(&run(dir.path(), &["compare", "b.exr", "a.exr"]), 1);
+    assert!(err.contains("b.exr") && err.contains("NaN"), "{err}");
+}
+
+/// Unmounts a test's tmpfs when dropped.
+struct Unmount(std::path::PathBuf);
+
+impl Drop for Unmount {
+    fn drop(&mut self) {
+        let _ = std::process::Command::new("umount")
+            .arg("-l")
+            .arg(&self.0)
+            .status();
+    }
+}
+
+/// Mounts a 1 MiB tmpfs at `dir`; `None` (the test then skips) where that is not permitted.
+fn small_disk(dir: &Path) -> Option<Unmount> {
+    std::fs::create_dir_all(dir).unwrap();
+    let mounted = std::process::Command::new("mount")
+        .args(["-t", "tmpfs", "-o", "size=1m", "tmpfs"])
+        .arg(dir)
+        .stderr(Stdio::null())
+        .status()
+        .is_ok_and(|s| s.success());
+    mounted.then(|| Unmount(dir.to_path_buf()))
+}
+
+/// Fills the disk holding `dir` with one file, then frees `slack` bytes of it.
+fn fill_disk(dir: &Path, slack: u64) -> std::path::PathBuf {
+    use std::io::Write;
+    let path = dir.join("filler");
+    let mut file = std::fs::File::create(&path).unwrap();
+    let chunk = [0u8; 4096];
+    let mut len = 0u64;
+    while file.write_all(&chunk).is_ok() {
+        len += chunk.len() as u64;
+    }
+    file.set_len(len.saturating_sub(slack)).unwrap();
+    file.sync_all().unwrap();
+    path
+}
+
+/// A full disk (a real one: a 1 MiB tmpfs; skipped where mounting is not permitted).
+/// A final write with room for the new PNG but not the new EXR replaces neither, and says
+/// so; a failed checkpoint is a warning, the render goes on and its final write succeeds.
+#[cfg(target_os = "linux")]
+#[test]
+fn a_full_disk_never_leaves_a_mismatched_pair_or_stops_the_render() {
+    let dir = tempfile::tempdir().unwrap();
+    tiny_scene(dir.path());
+    let disk = dir.path().join("disk");
+    let Some(_unmount) = small_disk(&disk) else {
+        eprintln!("skipped: cannot mount a tmpfs here (needs root)");
+        return;
+    };
+    let size = ["--width", "64", "--height", "64"];
+    let render = |extra: &[&str]| {
+        let mut args = vec!["tiny.yml", "-n", "1"];
+        args.extend_from_slice(&size);
+        args.extend_from_slice(extra);
+        run(dir.path(), &args)
+    };
+    assert_ok(&render(&["--seed", "1", "-o", "disk/shot"]));
+    let old_png = std::fs::read(disk.join("shot.png")).unwrap();
+    let old_exr = std::fs::read(disk.join("shot.exr")).unwrap();
+    assert!(
+        old_exr.len() > old_png.len() + 16384,
+        "the EXR must be the larger file for this test"
+    );
+    // Room for the new PNG (about the old one's size) but not the EXR.
+    let filler = fill_disk(&disk, old_png.len() as u64 + 8192);
+    let err = assert_fails(&render(&["--seed", "2", "-o", "disk/shot"]), 1);
+    assert!(
+        err.contains("neither") && err.contains("shot.exr") && err.contains("shot.png"),
+        "{err}"
+    );
+    assert_eq!(std::fs::read(disk.join("shot.png")).unwrap(), old_png);
+    assert_eq!(std::fs::read(disk.join("shot.exr")).unwrap(), old_exr);
+    assert_eq!(file_names(&disk), ["filler", "shot.exr", "shot.png"]);
+    std::fs::remove_file(&filler).unwrap();
+
+    // Checkpoints: fill the disk after the first one, let some fail, free it, stop.
+    let mut args = vec!["tiny.yml", "--time-limit", "1000", "--checkpoint", "0.01"];
+    args.extend_from_slice(&size);
+    args.extend_from_slice(&["-o", "disk/cp"]);
+    let (child, lines) = spawn(dir.path(), &args);
+    wait_for_file(&disk.join("cp.exr"));
+    let filler = fill_disk(&disk, 0);
+    let mut err = wait_for_line(&lines, "checkpoint not written");
+    let (w, h, _) = read_exr(&disk.join("cp.exr"));
+    assert_eq!((w, h), (64, 64), "the last good checkpoint is intact");
+    std::fs::remove_file(&filler).unwrap();
+    kill(&child, "TERM");
+    let (code, rest) = finish(child, lines);
+    err.push_str(&rest);
+    assert_eq!(
+        code,
+        Some(130),
+        "the render went on after the failed checkpoint: {err}"
+    );
+    assert!(
+        err.contains("last good checkpoint is kept") && err.contains("wrote"),
+        "{err}"
+    );
+    let (w, h, pixels) = read_exr(&disk.join("cp.exr"));
+    assert_eq!((w, h), (64, 64));
+    assert!(pixels.iter().flatten().all(|v| v.is_finite()));
+    assert_eq!(
+        file_names(&disk),
+        ["cp.exr", "cp.png", "shot.exr", "shot.png"]
+    );
+}

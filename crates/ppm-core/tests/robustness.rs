@@ -1,0 +1,197 @@
+//! Never losing a render, at the core (issue 17): a path depth bound that keeps every
+//! iteration finite, iterations that can be abandoned without touching the image, memory
+//! stated before it is allocated, and light powers that must fit f32 arithmetic.
+
+mod test_scenes;
+
+use ppm_core::integrator::{MemoryPart, MAX_DEPTH};
+use ppm_core::light::MAX_LIGHT_POWER;
+use ppm_core::prelude::*;
+use std::sync::atomic::{AtomicU32, Ordering};
+use test_scenes::{cornell, BoxContents};
+
+/// An inward perfect mirror sphere around the camera, lit by a point light: Russian roulette
+/// never ends a path (the mirror keeps all the throughput) and no surface stores a photon.
+fn mirror_sphere(resolution: u32) -> Scene {
+    let camera = Camera::new(
+        Vec3::ZERO,
+        Vec3::NEG_Z,
+        Vec3::Y,
+        60.0,
+        (resolution, resolution),
+    )
+    .unwrap();
+    let mut b = SceneBuilder::new(camera);
+    let mirror = b.add_material(Material::new(Bsdf::mirror(Vec3::ONE), Vec3::ZERO));
+    b.add_sphere(Sphere::new(Vec3::ZERO, 1.0, mirror).inward());
+    b.add_point_light(PointLight {
+        position: Vec3::new(0.0, 0.5, 0.0),
+        intensity: Vec3::ONE,
+    });
+    b.build().unwrap()
+}
+
+/// A depth far above the bound traces at most MAX_DEPTH bounces per path: an eye path makes
+/// at most MAX_DEPTH + 1 intersection tests (the last one only collects emission) and a light
+/// path MAX_DEPTH. Without the bound this iteration would trace 100,001 rays per path.
+#[test]
+fn max_depth_is_bounded_in_a_mirror_box() {
+    let scene = mirror_sphere(4);
+    for algorithm in [Algorithm::Path, Algorithm::Ppm] {
+        let settings = RenderSettings {
+            algorithm,
+            max_depth: 100_000,
+            photons: 64,
+            ..RenderSettings::new(&scene)
+        };
+        let mut renderer = Renderer::new(&scene, &settings);
+        let stats = renderer.iterate(&scene);
+        let pixels = 16u64;
+        let bound = pixels * (MAX_DEPTH as u64 + 1)
+            + if algorithm == Algorithm::Ppm {
+                64 * MAX_DEPTH as u64
+            } else {
+                0
+            };
+        assert!(
+            stats.rays <= bound && stats.rays >= pixels * MAX_DEPTH as u64,
+            "{algorithm:?}: {} rays, bound {bound}",
+            stats.rays
+        );
+        assert!(renderer.image().pixels.iter().all(|p| p.is_finite()));
+    }
+}
+
+/// An iteration stopped part-way is discarded whole: the image is bit for bit the one
+/// before it, and the render then continues exactly as if it had never been started.
+#[test]
+fn an_abandoned_iteration_leaves_no_trace() {
+    let scene = cornell(24, BoxContents::Diffuse);
+    for algorithm in [Algorithm::Path, Algorithm::Ppm] {
+        let settings = RenderSettings {
+            algorithm,
+            photons: 5000,
+            ..RenderSettings::new(&scene)
+        };
+        let mut reference = Renderer::new(&scene, &settings);
+        let mut renderer = Renderer::new(&scene, &settings);
+        for _ in 0..2 {
+            reference.iterate(&scene);
+            renderer.iterate(&scene);
+        }
+        let before = renderer.image();
+        // Say "stop" from the third work item on: some of the pass ran, some did not.
+        for allowed in [0u32, 2] {
+            let calls = AtomicU32::new(0);
+            let stop = || calls.fetch_add(1, Ordering::Relaxed) >= allowed;
+            assert!(
+                renderer.iterate_until(&scene, &stop).is_none(),
+                "{algorithm:?}: a stopped iteration is reported as abandoned"
+            );
+            assert_eq!(renderer.iterations(), 2, "{algorithm:?}");
+            assert_eq!(
+                renderer.image(),
+                before,
+                "{algorithm:?}: the image is untouched"
+            );
+        }
+        for _ in 0..2 {
+            reference.iterate(&scene);
+            let stats = renderer.iterate_until(&scene, &|| false);
+            assert!(stats.is_some());
+        }
+        assert_eq!(
+            renderer.image(),
+            reference.image(),
+            "{algorithm:?}: the render goes on as if nothing was abandoned"
+        );
+    }
+}
+
+/// Each integrator states what it will allocate: at least what it holds after an iteration
+/// (the photon buffer did not need to grow in this box), and the photon part only for
+/// photon mapping.
+#[test]
+fn memory_estimates_cover_what_the_integrators_allocate() {
+    let scene = cornell(32, BoxContents::Diffuse);
+    for algorithm in [Algorithm::Path, Algorithm::Ppm] {
+        let settings = RenderSettings {
+            algorithm,
+            photons: 20_000,
+            ..RenderSettings::new(&scene)
+        };
+        let estimate = Renderer::memory_estimate(&scene, &settings);
+        let mut renderer = Renderer::new(&scene, &settings);
+        renderer.iterate(&scene);
+        let held = renderer.memory_bytes() as u64;
+        assert!(
+            estimate.total() >= held && estimate.total() <= 2 * held + 32 * 32 * 12,
+            "{algorithm:?}: estimate {} vs {held} held",
+            estimate.total()
+        );
+        let photons = estimate.items.iter().any(|i| i.part == MemoryPart::Photons);
+        assert_eq!(photons, algorithm == Algorithm::Ppm);
+    }
+    // The largest requests do not overflow and name their part.
+    let huge = RenderSettings {
+        algorithm: Algorithm::Ppm,
+        photons: u32::MAX,
+        ..RenderSettings::new(&scene)
+    };
+    let estimate = Renderer::memory_estimate(&scene, &huge);
+    assert_eq!(estimate.largest().unwrap().part, MemoryPart::Photons);
+    assert!(estimate.total() > 8 << 30);
+}
+
+fn scene_with_point_light(intensity: f32) -> Result<Scene, SceneError> {
+    let camera = Camera::new(Vec3::ZERO, Vec3::NEG_Z, Vec3::Y, 60.0, (4, 4)).unwrap();
+    let mut b = SceneBuilder::new(camera);
+    let white = b.add_material(Material::new(Bsdf::diffuse(Vec3::splat(0.5)), Vec3::ZERO));
+    b.add_sphere(Sphere::new(Vec3::ZERO, 1.0, white).inward());
+    b.add_point_light(PointLight {
+        position: Vec3::ZERO,
+        intensity: Vec3::ONE,
+    });
+    b.add_point_light(PointLight {
+        position: Vec3::new(0.0, 0.5, 0.0),
+        intensity: Vec3::splat(intensity),
+    });
+    b.build()
+}
+
+/// A light power that overflows f32 (or comes near enough for the density estimate to) is an
+/// error naming the light, never a silent black image.
+#[test]
+fn light_powers_must_fit_f32_arithmetic() {
+    for intensity in [1e37f32, 1e35, f32::MAX] {
+        let err = scene_with_point_light(intensity).unwrap_err().to_string();
+        assert!(
+            err.contains("point light 1") && err.contains("power"),
+            "{err}"
+        );
+    }
+    // Just below the bound (4 pi I = 0.9 MAX_LIGHT_POWER): accepted, and renders finite.
+    let ok = 0.9 * MAX_LIGHT_POWER / (4.0 * std::f32::consts::PI);
+    let scene = scene_with_point_light(ok).unwrap();
+    let settings = RenderSettings {
+        photons: 2000,
+        ..RenderSettings::new(&scene)
+    };
+    let mut renderer = Renderer::new(&scene, &settings);
+    renderer.iterate(&scene);
+    assert_eq!(renderer.rejected(), 0);
+    let image = renderer.image();
+    assert!(image.pixels.iter().all(|p| p.is_finite()));
+    assert!(image.pixels.iter().any(|p| p.max_element() > 0.0));
+    // Area lights: the emissive material is named.
+    let camera = Camera::new(Vec3::ZERO, Vec3::NEG_Z, Vec3::Y, 60.0, (4, 4)).unwrap();
+    let mut b = SceneBuilder::new(camera);
+    let hot =
+        b.add_material(Material::new(Bsdf::diffuse(Vec3::ZERO), Vec3::splat(1e36)).named("sun"));
+    b.add_sphere(Sphere::new(Vec3::ZERO, 1.0, hot).inward());
+    let err = b.build().unwrap_err().to_string();
+    assert!(
+        err.contains("emissive sphere") && err.contains("`sun`"),
+        "{err}"
+    );
+}
