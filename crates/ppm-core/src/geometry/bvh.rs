@@ -24,7 +24,8 @@ use super::sphere::intersect_sphere;
 use super::triangle::{gamma, ShearedRay};
 use super::triangle_packet::{PacketRay, TrianglePacket};
 use super::{Hit, Ray, Sphere, Triangle, TriangleMesh};
-use glam::{DVec3, Vec2, Vec3, Vec3A, Vec4};
+use crate::simd::{F32x8, LANES};
+use glam::{DVec3, Vec2, Vec3, Vec3A};
 use obvhs::aabb::Aabb;
 use obvhs::bvh2::Bvh2;
 use obvhs::BvhBuildParams;
@@ -164,83 +165,21 @@ impl TraversalRay {
     }
 
     /// The slab test of a node's child boxes against [0, t_max]: the bitmask of the children
-    /// met and their entry distances.
+    /// met and their entry distances. All eight children at once over [`F32x8`]; no NaN can
+    /// occur (see `new`), so its min/max (`a < b ? a : b`) are the exact minimum and maximum.
     #[inline(always)]
     fn slab(&self, node: &Node, t_max: f32) -> (u32, [f32; WIDTH]) {
-        #[cfg(all(target_arch = "x86_64", target_feature = "avx"))]
-        {
-            self.slab_avx(node, t_max)
-        }
-        #[cfg(not(all(target_arch = "x86_64", target_feature = "avx")))]
-        {
-            self.slab_portable(node, t_max)
-        }
-    }
-
-    /// [`TraversalRay::slab`] on two 4-wide halves (glam's `Vec4`: SSE on x86-64).
-    #[cfg_attr(
-        all(target_arch = "x86_64", target_feature = "avx"),
-        allow(dead_code) // only the tests call it there
-    )]
-    #[inline(always)]
-    fn slab_portable(&self, node: &Node, t_max: f32) -> (u32, [f32; WIDTH]) {
-        let mut met = 0;
-        let mut entry = [0.0; WIDTH];
-        for half in 0..2 {
-            let lanes = |bounds: &[f32; WIDTH]| Vec4::from_slice(&bounds[4 * half..4 * half + 4]);
-            let axis = |a: usize| {
-                let (o, inv) = (Vec4::splat(self.origin[a]), Vec4::splat(self.inv_dir[a]));
-                let t0 = (lanes(&node.min[a]) - o) * inv;
-                let t1 = (lanes(&node.max[a]) - o) * inv;
-                (t0.min(t1), t0.max(t1))
-            };
-            let ((near_x, far_x), (near_y, far_y), (near_z, far_z)) = (axis(0), axis(1), axis(2));
-            // No NaN can occur here (see `new`), so the SSE min/max (a < b ? a : b) are exact.
-            let t_near = near_x.max(near_y).max(near_z.max(Vec4::ZERO));
-            let t_far =
-                far_x.min(far_y).min(far_z.min(Vec4::splat(t_max))) * Vec4::splat(SLAB_SCALE);
-            met |= t_near.cmple(t_far).bitmask() << (4 * half);
-            t_near.write_to_slice(&mut entry[4 * half..4 * half + 4]);
-        }
-        (met & node.valid, entry)
-    }
-
-    /// [`TraversalRay::slab`] with 8-wide AVX: the same operations in the same order on all
-    /// eight lanes at once, so the same answer bit for bit.
-    #[cfg(all(target_arch = "x86_64", target_feature = "avx"))]
-    #[inline(always)]
-    fn slab_avx(&self, node: &Node, t_max: f32) -> (u32, [f32; WIDTH]) {
-        use std::arch::x86_64::*;
-        const _: () = assert!(WIDTH == 8, "one __m256 holds a node's lanes");
-        let mut entry = [0.0; WIDTH];
-        // SAFETY: AVX is enabled for this whole build (cfg above); every load and store reads
-        // or writes exactly one `[f32; 8]` through a valid reference (unaligned access).
-        let met = unsafe {
-            let axis = |a: usize| {
-                let o = _mm256_set1_ps(self.origin[a]);
-                let inv = _mm256_set1_ps(self.inv_dir[a]);
-                let t0 =
-                    _mm256_mul_ps(_mm256_sub_ps(_mm256_loadu_ps(node.min[a].as_ptr()), o), inv);
-                let t1 =
-                    _mm256_mul_ps(_mm256_sub_ps(_mm256_loadu_ps(node.max[a].as_ptr()), o), inv);
-                (_mm256_min_ps(t0, t1), _mm256_max_ps(t0, t1))
-            };
-            let ((near_x, far_x), (near_y, far_y), (near_z, far_z)) = (axis(0), axis(1), axis(2));
-            let t_near = _mm256_max_ps(
-                _mm256_max_ps(near_x, near_y),
-                _mm256_max_ps(near_z, _mm256_setzero_ps()),
-            );
-            let t_far = _mm256_mul_ps(
-                _mm256_min_ps(
-                    _mm256_min_ps(far_x, far_y),
-                    _mm256_min_ps(far_z, _mm256_set1_ps(t_max)),
-                ),
-                _mm256_set1_ps(SLAB_SCALE),
-            );
-            _mm256_storeu_ps(entry.as_mut_ptr(), t_near);
-            _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LE_OQ>(t_near, t_far)) as u32
+        const _: () = assert!(WIDTH == LANES, "one F32x8 holds a node's children");
+        let axis = |a: usize| {
+            let (o, inv) = (F32x8::splat(self.origin[a]), F32x8::splat(self.inv_dir[a]));
+            let t0 = (F32x8::from_array(&node.min[a]) - o) * inv;
+            let t1 = (F32x8::from_array(&node.max[a]) - o) * inv;
+            (t0.min(t1), t0.max(t1))
         };
-        (met & node.valid, entry)
+        let ((near_x, far_x), (near_y, far_y), (near_z, far_z)) = (axis(0), axis(1), axis(2));
+        let t_near = near_x.max(near_y).max(near_z.max(F32x8::zero()));
+        let t_far = far_x.min(far_y).min(far_z.min(F32x8::splat(t_max))) * F32x8::splat(SLAB_SCALE);
+        (t_near.le(t_far).bits() & node.valid, t_near.to_array())
     }
 
     /// Intersects a sphere: t in (0, t_max].
@@ -778,12 +717,28 @@ mod tests {
         }
     }
 
-    /// The AVX slab test answers like the two 4-wide halves, bit for bit: random boxes (also
-    /// flat and inverted ones, unused lanes) against random rays (also with zero direction
-    /// components and origins on a box face).
-    #[cfg(all(target_arch = "x86_64", target_feature = "avx"))]
+    /// The slab test of one child box in scalar code, with the vector's min/max semantics
+    /// (`a < b ? a : b`): the reference for [`TraversalRay::slab`].
+    fn slab_scalar(ray: &TraversalRay, node: &Node, t_max: f32, i: usize) -> (bool, f32) {
+        let min = |a: f32, b: f32| if a < b { a } else { b };
+        let max = |a: f32, b: f32| if a > b { a } else { b };
+        let mut near = [0.0; 3];
+        let mut far = [0.0; 3];
+        for a in 0..3 {
+            let t0 = (node.min[a][i] - ray.origin[a]) * ray.inv_dir[a];
+            let t1 = (node.max[a][i] - ray.origin[a]) * ray.inv_dir[a];
+            (near[a], far[a]) = (min(t0, t1), max(t0, t1));
+        }
+        let t_near = max(max(near[0], near[1]), max(near[2], 0.0));
+        let t_far = min(min(far[0], far[1]), min(far[2], t_max)) * SLAB_SCALE;
+        (t_near <= t_far && node.valid >> i & 1 == 1, t_near)
+    }
+
+    /// The 8-wide slab test answers like the scalar one lane by lane, bit for bit: random
+    /// boxes (also flat and inverted ones, unused lanes) against random rays (also with zero
+    /// direction components and origins on a box face).
     #[test]
-    fn avx_slab_matches_portable() {
+    fn slab_matches_scalar_reference() {
         let mut rng = Rng::new(11, 0, 0);
         let mut value = move || (rng.uniform() * 2.0 - 1.0) * 4.0;
         let (mut met, mut missed) = (0, 0);
@@ -818,20 +773,18 @@ mod tests {
             } else {
                 value().abs()
             };
-            let (avx_met, avx_near) = ray.slab_avx(&node, t_max);
-            let (met_portable, near_portable) = ray.slab_portable(&node, t_max);
-            assert_eq!(avx_met, met_portable, "case {case}");
+            let (lanes_met, lanes_near) = ray.slab(&node, t_max);
             for i in 0..WIDTH {
-                if avx_met >> i & 1 == 1 {
-                    assert_eq!(
-                        avx_near[i].to_bits(),
-                        near_portable[i].to_bits(),
-                        "case {case}"
-                    );
-                }
+                let (hit, near) = slab_scalar(&ray, &node, t_max, i);
+                assert_eq!(lanes_met >> i & 1 == 1, hit, "case {case} lane {i}");
+                assert_eq!(
+                    lanes_near[i].to_bits(),
+                    near.to_bits(),
+                    "case {case} lane {i}"
+                );
             }
-            met += avx_met.count_ones();
-            missed += (node.valid & !avx_met).count_ones();
+            met += lanes_met.count_ones();
+            missed += (node.valid & !lanes_met).count_ones();
         }
         assert!(
             met > 3000 && missed > 3000,

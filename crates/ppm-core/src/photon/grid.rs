@@ -22,8 +22,9 @@
 //! stored order depends only on the set of photons, and so does the order in which a query
 //! calls its closure: gathers sum in the same order at any thread count.
 
-use super::gather::{Columns, ColumnsView, FluxQuery, FluxSum, LANES};
+use super::gather::{Columns, ColumnsView, FluxQuery, FluxSum};
 use super::{FluxRecord, Kernel, Photon};
+use crate::simd::{F32x8, LANES};
 use glam::{IVec3, Vec3};
 use rayon::prelude::*;
 use std::ops::Range;
@@ -533,63 +534,17 @@ type Positions<'a> = [&'a [f32; LANES]; 3];
 /// mask of those with `d² <= r2` (bit k for candidate k).
 ///
 /// `d² = (dx² + dy²) + dz²` in this order and without fused multiply-adds, as
-/// `Vec3::distance_squared` computes it: the AVX version and the portable one agree bit for
-/// bit (tested), so results do not depend on how the crate was compiled.
+/// `Vec3::distance_squared` computes it, so each lane equals that scalar expression bit for
+/// bit (tested) and results do not depend on how the crate was compiled.
 #[inline(always)]
 fn block_distances(position: Positions<'_>, p: Vec3, r2: f32) -> (u32, [f32; LANES]) {
-    #[cfg(all(target_arch = "x86_64", target_feature = "avx"))]
-    {
-        block_distances_avx(position, p, r2)
-    }
-    #[cfg(not(all(target_arch = "x86_64", target_feature = "avx")))]
-    {
-        block_distances_portable(position, p, r2)
-    }
-}
-
-/// [`block_distances`] in plain Rust. LLVM does not turn it into one 8-wide comparison and
-/// mask (it emits a mix of scalar and 4-wide code, about 80 instructions per block).
-#[cfg_attr(
-    all(target_arch = "x86_64", target_feature = "avx"),
-    allow(dead_code) // only the tests call it there
-)]
-#[inline(always)]
-fn block_distances_portable(position: Positions<'_>, p: Vec3, r2: f32) -> (u32, [f32; LANES]) {
     let [xs, ys, zs] = position;
-    let mut d2 = [0.0f32; LANES];
-    let mut inside = 0u32;
-    for (k, d2k) in d2.iter_mut().enumerate() {
-        let (dx, dy, dz) = (xs[k] - p.x, ys[k] - p.y, zs[k] - p.z);
-        *d2k = dx * dx + dy * dy + dz * dz;
-        inside |= ((*d2k <= r2) as u32) << k;
-    }
-    (inside, d2)
-}
-
-/// [`block_distances`] with 8-wide AVX: one subtraction, multiplication and addition per
-/// operation for all lanes, and the mask straight from the comparison (`vmovmskps`).
-#[cfg(all(target_arch = "x86_64", target_feature = "avx"))]
-#[inline(always)]
-fn block_distances_avx(position: Positions<'_>, p: Vec3, r2: f32) -> (u32, [f32; LANES]) {
-    use std::arch::x86_64::*;
-    const _: () = assert!(LANES == 8, "one __m256 holds the block");
-    let [xs, ys, zs] = position;
-    let mut d2 = [0.0f32; LANES];
-    // SAFETY: AVX is enabled for this whole build (cfg above), and every load and store
-    // reads or writes exactly one `[f32; 8]` through a valid reference (unaligned access).
-    let inside = unsafe {
-        let dx = _mm256_sub_ps(_mm256_loadu_ps(xs.as_ptr()), _mm256_set1_ps(p.x));
-        let dy = _mm256_sub_ps(_mm256_loadu_ps(ys.as_ptr()), _mm256_set1_ps(p.y));
-        let dz = _mm256_sub_ps(_mm256_loadu_ps(zs.as_ptr()), _mm256_set1_ps(p.z));
-        let sum = _mm256_add_ps(
-            _mm256_add_ps(_mm256_mul_ps(dx, dx), _mm256_mul_ps(dy, dy)),
-            _mm256_mul_ps(dz, dz),
-        );
-        _mm256_storeu_ps(d2.as_mut_ptr(), sum);
-        // Ordered, non-signalling <=: false for NaN, like the scalar comparison.
-        _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LE_OQ>(sum, _mm256_set1_ps(r2))) as u32
-    };
-    (inside, d2)
+    let dx = F32x8::from_array(xs) - F32x8::splat(p.x);
+    let dy = F32x8::from_array(ys) - F32x8::splat(p.y);
+    let dz = F32x8::from_array(zs) - F32x8::splat(p.z);
+    let d2 = (dx * dx + dy * dy) + dz * dz;
+    // Ordered <=: false for NaN, like the scalar comparison.
+    (d2.le(F32x8::splat(r2)).bits(), d2.to_array())
 }
 
 /// Sorts every bucket of `photons` (bucket `b` is `start[b] - start[0]..start[b + 1] -
@@ -695,7 +650,7 @@ mod tests {
     }
 
     #[test]
-    fn block_distances_match_distance_squared_bit_for_bit() {
+    fn block_distances_match_scalar_distance_squared_bit_for_bit() {
         let mut rng = crate::sampling::Rng::new(7, 0, 0);
         let mut coordinate = |scale: f32| (rng.uniform() - 0.5) * scale;
         for trial in 0..20_000 {
@@ -719,8 +674,6 @@ mod tests {
             };
             let position = xyz.each_ref();
             let (mask, d2) = block_distances(position, p, r2);
-            let (mask_portable, d2_portable) = block_distances_portable(position, p, r2);
-            assert_eq!(mask, mask_portable, "trial {trial}");
             for k in 0..LANES {
                 let expected = Vec3::new(xyz[0][k], xyz[1][k], xyz[2][k]).distance_squared(p);
                 assert_eq!(
@@ -728,7 +681,6 @@ mod tests {
                     expected.to_bits(),
                     "trial {trial}, lane {k}"
                 );
-                assert_eq!(d2_portable[k].to_bits(), expected.to_bits());
                 assert_eq!(
                     mask >> k & 1 == 1,
                     expected <= r2,
