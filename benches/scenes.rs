@@ -74,7 +74,7 @@ fn photon_tracing(c: &mut Criterion) {
 }
 
 /// Grid build and gather on one iteration's real photon map: the water scene at its 200,000
-/// light paths, and the specular scene at the 262,144 of the speed bar.
+/// light paths, and the specular scene at 262,144 (the workload of the speed comparison in docs/).
 fn photon_map(c: &mut Criterion) {
     for (group, name, paths) in [
         ("photon_map_water", "cornell_box_water.yml", 200_000),

@@ -1,67 +1,14 @@
-//! All primitives of a scene under one BVH: closest-hit and any-hit queries.
-//!
-//! obvhs builds a binary BVH (PLOC, then reinsertion and SAH leaf collapsing, at most 2
-//! primitives per leaf); we collapse it into an 8-wide BVH (each node opens its children with
-//! the largest surface area until it holds eight, as Embree's BVH8 does) and traverse that
-//! with our own loop: one node tests the boxes of all eight children at once (one AVX
-//! operation per step, or two 4-wide halves without AVX), and a leaf tests its triangles as
-//! one 4-wide packet ([`TrianglePacket`]), lane for lane the scalar watertight test.
-//!
-//! The slab test is robust: the exit distance of every box is scaled by 1 + 2 gamma(3) (Ize
-//! 2013, "Robust BVH Ray Traversal"), which covers the three roundings of (bound - o) / d, and a
-//! zero direction component uses a finite huge inverse instead of infinity so no 0 * inf = NaN
-//! can drop a box. Together with the watertight triangle test no ray slips between primitives
-//! or past a box it touches.
-//!
-//! Why not obvhs's own traversals: its compressed wide BVH (CWBVH) clamps every box entry to
-//! an absolute t >= 1e-4 (`cwbvh::node::EPSILON`), so a ray 1e-5 from a wall of a unit box
-//! passes through the wall (measured: all of 30000 corner rays of the unit box escaped), and
-//! its `Bvh2` traversal replaces direction components below f32::EPSILON by f32::EPSILON and has
-//! no Ize correction. Our own loop also resolves equal distances by primitive id, so the BVH
-//! answers exactly like `intersect_brute_force`.
+//! Traversal of the 8-wide BVH: the robust slab test of a node's eight boxes at once, and a
+//! stack walk nearest child first, for closest-hit and any-hit queries.
 
-use super::sphere::intersect_sphere;
-use super::triangle::{gamma, ShearedRay};
-use super::triangle_packet::{PacketRay, TrianglePacket};
-use super::{Hit, Ray, Sphere, Triangle, TriangleMesh};
+use super::wide::{sphere_record, Leaf, Node, SphereRecord, LEAF, WIDTH};
+use super::Geometry;
+use crate::geometry::sphere::intersect_sphere;
+use crate::geometry::triangle::{gamma, ShearedRay};
+use crate::geometry::triangle_packet::{PacketRay, TrianglePacket};
+use crate::geometry::{Hit, Ray};
 use crate::simd::{F32x8, LANES};
-use glam::{DVec3, Vec2, Vec3, Vec3A};
-use obvhs::aabb::Aabb;
-use obvhs::bvh2::Bvh2;
-use obvhs::BvhBuildParams;
-
-/// A sphere in a leaf.
-#[derive(Clone, Copy, Debug)]
-struct SphereRecord {
-    center: Vec3,
-    radius: f32,
-    id: u32,
-}
-
-/// A child reference with this bit set names a leaf (the rest is its index), else a node.
-const LEAF: u32 = 1 << 31;
-
-/// Children per node.
-const WIDTH: usize = 8;
-
-/// A node of the 8-wide BVH: the boxes of its children in structure-of-arrays form.
-#[derive(Clone, Copy, Debug)]
-#[repr(C, align(32))]
-struct Node {
-    /// `min[axis]` / `max[axis]`: that coordinate of each child's box.
-    min: [[f32; WIDTH]; 3],
-    max: [[f32; WIDTH]; 3],
-    child: [u32; WIDTH],
-    /// Bitmask of the children in use.
-    valid: u32,
-}
-
-/// A leaf: a run of triangle packets and a run of spheres.
-#[derive(Clone, Copy, Debug)]
-struct Leaf {
-    packets: (u32, u32),
-    spheres: (u32, u32),
-}
+use glam::{Vec2, Vec3, Vec3A};
 
 /// Traversal stack size kept on the call stack; deeper trees (never seen in practice) use a
 /// heap stack sized at build time.
@@ -77,29 +24,6 @@ const SLAB_SCALE: f32 = 1.0 + 2.0 * gamma(3);
 /// itself (`Closest::improves`, or `t < t_max` for shadow rays), so that exactly equal
 /// distances are resolved the same way everywhere.
 const WIDEN: f32 = 1.0 + 4.0 * f32::EPSILON;
-
-/// The scene's geometry and its acceleration structure. Immutable once built.
-pub struct Geometry {
-    /// The 8-wide BVH; the root is node 0 (no nodes without primitives).
-    nodes: Vec<Node>,
-    leaves: Vec<Leaf>,
-    packets: Vec<TrianglePacket>,
-    sphere_records: Vec<SphereRecord>,
-    /// Triangles, their unit geometric normals, materials and shading-normal slots, by
-    /// global id. The normals are computed once here, by the very expression a hit would
-    /// evaluate, instead of per hit.
-    triangles: Vec<Triangle>,
-    tri_geometric_normals: Vec<Vec3>,
-    tri_materials: Vec<u32>,
-    /// Index into `shading_normals` per triangle, u32::MAX when the mesh has no normals.
-    tri_normals: Vec<u32>,
-    shading_normals: Vec<[Vec3; 3]>,
-    spheres: Vec<Sphere>,
-    skipped: usize,
-    bounds: (Vec3, Vec3),
-    /// The traversal stack never holds more entries (3 per level of the tree).
-    stack_size: usize,
-}
 
 /// The closest candidate found so far: distance, global id and barycentrics.
 #[derive(Clone, Copy)]
@@ -191,103 +115,9 @@ impl TraversalRay {
 }
 
 impl Geometry {
-    /// Builds the BVH over all triangles of `meshes` and all `spheres`. Degenerate triangles
-    /// (zero area or non-finite vertices) are skipped and counted in [`Geometry::skipped_triangles`].
-    pub fn new(meshes: &[TriangleMesh], spheres: &[Sphere]) -> Self {
-        let mut triangles = Vec::new();
-        let mut tri_geometric_normals = Vec::new();
-        let mut tri_materials = Vec::new();
-        let mut tri_normals = Vec::new();
-        let mut shading_normals = Vec::new();
-        let mut skipped = 0;
-        for mesh in meshes {
-            let has_normals = mesh.normals.len() == mesh.positions.len();
-            for (i, idx) in mesh.indices.iter().enumerate() {
-                let vertex = |k: usize| mesh.positions.get(idx[k] as usize).copied();
-                let (Some(v0), Some(v1), Some(v2)) = (vertex(0), vertex(1), vertex(2)) else {
-                    skipped += 1;
-                    continue;
-                };
-                let tri = Triangle { v: [v0, v1, v2] };
-                let n = tri.cross();
-                let finite = v0.is_finite() && v1.is_finite() && v2.is_finite();
-                // A zero cross product covers repeated vertices and collinear ones.
-                if !finite || !n.is_finite() || n.length_squared() == 0.0 {
-                    skipped += 1;
-                    continue;
-                }
-                triangles.push(tri);
-                tri_geometric_normals.push(n.normalize());
-                tri_materials.push(mesh.materials.get(i).copied().unwrap_or(0));
-                if has_normals {
-                    tri_normals.push(shading_normals.len() as u32);
-                    shading_normals.push(idx.map(|k| mesh.normals[k as usize]));
-                } else {
-                    tri_normals.push(u32::MAX);
-                }
-            }
-        }
-        let spheres = spheres.to_vec();
-
-        let mut aabbs: Vec<Aabb> = triangles
-            .iter()
-            .map(|t| {
-                let [a, b, c] = t.v.map(Vec3A::from);
-                Aabb::new(a.min(b).min(c), a.max(b).max(c))
-            })
-            .collect();
-        aabbs.extend(spheres.iter().map(|s| {
-            let r = s.radius.abs();
-            if s.center.is_finite() && r.is_finite() {
-                let c = Vec3A::from(s.center);
-                Aabb::new(c - r, c + r)
-            } else {
-                // Never hit (see `intersect_sphere`); keep it out of the way of the build.
-                Aabb::from_point(Vec3A::ZERO)
-            }
-        }));
-        let bounds = aabbs.iter().fold(None, |acc: Option<Aabb>, b| {
-            Some(acc.map_or(*b, |a| a.union(b)))
-        });
-        let bounds = bounds.map_or((Vec3::ZERO, Vec3::ZERO), |b| (b.min.into(), b.max.into()));
-
-        let mut wide = WideBvh::default();
-        if !aabbs.is_empty() {
-            // At most 2 primitives per leaf (one quad: a half-filled packet). Callgrind, one
-            // iteration (`--photons 65536 --width 256 --height 256 -n 1 --threads 1`), whole
-            // program, leaves of at most 1 / 2 / 4 with 4-wide nodes: specular box
-            // 531 / 484 / 584 M instructions, water 1349 / 1229 / 1222 M, diffuse box
-            // 537 / 477 / 479 M; with 8-wide nodes, 2 / 4: specular 414 / 540 M, water
-            // 1091 / 1088 M, diffuse 404 / 412 M. The box walls span the scene, so bigger
-            // leaves cull less.
-            let params = BvhBuildParams {
-                max_prims_per_leaf: 2,
-                ..BvhBuildParams::medium_build()
-            };
-            let bvh: Bvh2 =
-                obvhs::bvh2::builder::build_bvh2(&aabbs, params, &mut Default::default());
-            wide.build(&bvh, &triangles, &spheres);
-        }
-        Geometry {
-            nodes: wide.nodes,
-            leaves: wide.leaves,
-            packets: wide.packets,
-            sphere_records: wide.spheres,
-            triangles,
-            tri_geometric_normals,
-            tri_materials,
-            tri_normals,
-            shading_normals,
-            spheres,
-            skipped,
-            bounds,
-            stack_size: (WIDTH - 1) * wide.depth + 1,
-        }
-    }
-
     /// Closest hit along the ray. Always inlined: the passes call it in their hot loops,
     /// and whether LLVM inlines it otherwise depends on how the crate is split into codegen
-    /// units (outlined, an iteration took 2-3% more instructions).
+    /// units.
     #[inline(always)]
     pub fn intersect(&self, ray: &Ray) -> Option<Hit> {
         let tr = TraversalRay::new(ray);
@@ -360,8 +190,7 @@ impl Geometry {
         if self.nodes.is_empty() {
             return false;
         }
-        // The stack array is zeroed on every call: a small tree gets a small one (zeroing
-        // the 64-entry array on every ray cost about 1% of an iteration's instructions).
+        // The stack array is zeroed on every call: a small tree gets a small one.
         if self.stack_size <= SMALL_STACK_SIZE {
             let mut stack = [(0u32, 0.0f32); SMALL_STACK_SIZE];
             self.traverse_with(tr, t_max, &mut stack, &mut leaf)
@@ -457,224 +286,12 @@ impl Geometry {
         }
         best.found.then(|| self.hit(ray, best.t, best.id, best.uv))
     }
-
-    /// Everything the integrators need about the hit on primitive `prim` at distance `t`.
-    #[inline(always)]
-    fn hit(&self, ray: &Ray, t: f32, prim: u32, uv: Vec2) -> Hit {
-        let n_tri = self.triangles.len() as u32;
-        if prim < n_tri {
-            let i = prim as usize;
-            let [v0, v1, v2] = self.triangles[i].v;
-            // The point from barycentrics in double precision, rounded once: it lies on the
-            // triangle's plane to within half an ulp of its own coordinates, whatever the size
-            // of the triangle, which is what `offset_origin` assumes.
-            let (b1, b2) = (uv.x as f64, uv.y as f64);
-            let p = DVec3::from(v0) * (1.0 - b1 - b2) + DVec3::from(v1) * b1 + DVec3::from(v2) * b2;
-            let ng = self.tri_geometric_normals[i];
-            let ns = match self.tri_normals[i] {
-                u32::MAX => ng,
-                k => {
-                    let [n0, n1, n2] = self.shading_normals[k as usize];
-                    let n = (n0 * (1.0 - uv.x - uv.y) + n1 * uv.x + n2 * uv.y).normalize_or_zero();
-                    if n == Vec3::ZERO {
-                        ng
-                    } else if n.dot(ng) < 0.0 {
-                        -n
-                    } else {
-                        n
-                    }
-                }
-            };
-            Hit {
-                t,
-                p: p.as_vec3(),
-                ng,
-                ns,
-                uv,
-                material: self.tri_materials[i],
-                prim,
-            }
-        } else {
-            let s = &self.spheres[(prim - n_tri) as usize];
-            let (p, ng) = s.surface(ray.at(t));
-            Hit {
-                t,
-                p,
-                ng,
-                ns: ng,
-                uv,
-                material: s.material,
-                prim,
-            }
-        }
-    }
-
-    /// Number of triangles kept.
-    pub fn triangle_count(&self) -> usize {
-        self.triangles.len()
-    }
-
-    /// Number of spheres.
-    pub fn sphere_count(&self) -> usize {
-        self.spheres.len()
-    }
-
-    /// Triangles dropped as degenerate.
-    pub fn skipped_triangles(&self) -> usize {
-        self.skipped
-    }
-
-    /// The triangle with global id `prim` (< triangle_count) and its material.
-    pub fn triangle(&self, prim: u32) -> (Triangle, u32) {
-        (
-            self.triangles[prim as usize],
-            self.tri_materials[prim as usize],
-        )
-    }
-
-    /// The sphere with global id `prim` (>= triangle_count).
-    pub fn sphere(&self, prim: u32) -> &Sphere {
-        &self.spheres[prim as usize - self.triangles.len()]
-    }
-
-    /// World-space bounds (min, max) of all primitives.
-    pub fn bounds(&self) -> (Vec3, Vec3) {
-        self.bounds
-    }
-}
-
-/// A sphere's leaf record; a sphere with a non-finite center is never hit (radius 0).
-fn sphere_record(s: &Sphere, id: usize) -> SphereRecord {
-    let (center, radius) = if s.center.is_finite() {
-        (s.center, s.radius.abs())
-    } else {
-        (Vec3::ZERO, 0.0)
-    };
-    SphereRecord {
-        center,
-        radius,
-        id: id as u32,
-    }
-}
-
-/// The 8-wide BVH being collapsed from obvhs's binary one.
-#[derive(Default)]
-struct WideBvh {
-    nodes: Vec<Node>,
-    leaves: Vec<Leaf>,
-    packets: Vec<TrianglePacket>,
-    spheres: Vec<SphereRecord>,
-    /// Nodes on the longest root-to-leaf path.
-    depth: usize,
-}
-
-impl WideBvh {
-    fn build(&mut self, bvh: &Bvh2, triangles: &[Triangle], spheres: &[Sphere]) {
-        let root = &bvh.nodes[0];
-        if root.is_leaf() {
-            // A single leaf still hangs below a node: traversal starts at a node.
-            let leaf = self.leaf(bvh, 0, triangles, spheres);
-            let mut node = Node::EMPTY;
-            node.set_child(0, &root.aabb, leaf);
-            self.nodes.push(node);
-            self.depth = 1;
-        } else {
-            self.node(bvh, 0, triangles, spheres, 1);
-        }
-    }
-
-    /// Collapses the binary subtree under inner node `index`; returns the new node's index.
-    fn node(
-        &mut self,
-        bvh: &Bvh2,
-        index: usize,
-        triangles: &[Triangle],
-        spheres: &[Sphere],
-        depth: usize,
-    ) -> u32 {
-        self.depth = self.depth.max(depth);
-        let first = bvh.nodes[index].first_index as usize;
-        let mut children = vec![first, first + 1];
-        // Open the inner child with the largest surface area until there are WIDTH.
-        while children.len() < WIDTH {
-            let widest = (0..children.len())
-                .filter(|&i| !bvh.nodes[children[i]].is_leaf())
-                .max_by(|&a, &b| {
-                    let area = |i: usize| bvh.nodes[children[i]].aabb.half_area();
-                    area(a).total_cmp(&area(b))
-                });
-            let Some(i) = widest else { break };
-            let pair = bvh.nodes[children[i]].first_index as usize;
-            children.splice(i..=i, [pair, pair + 1]);
-        }
-        let slot = self.nodes.len();
-        self.nodes.push(Node::EMPTY);
-        let mut node = Node::EMPTY;
-        for (i, &c) in children.iter().enumerate() {
-            let child = if bvh.nodes[c].is_leaf() {
-                self.leaf(bvh, c, triangles, spheres)
-            } else {
-                self.node(bvh, c, triangles, spheres, depth + 1)
-            };
-            node.set_child(i, &bvh.nodes[c].aabb, child);
-        }
-        self.nodes[slot] = node;
-        slot as u32
-    }
-
-    /// Packs the primitives of binary leaf `index`; returns its child reference.
-    fn leaf(
-        &mut self,
-        bvh: &Bvh2,
-        index: usize,
-        triangles: &[Triangle],
-        spheres: &[Sphere],
-    ) -> u32 {
-        let n = &bvh.nodes[index];
-        let prims = &bvh.primitive_indices[n.first_index as usize..][..n.prim_count as usize];
-        let tris: Vec<([Vec3; 3], u32)> = prims
-            .iter()
-            .filter(|&&id| (id as usize) < triangles.len())
-            .map(|&id| (triangles[id as usize].v, id))
-            .collect();
-        let packets = self.packets.len() as u32;
-        self.packets.extend(tris.chunks(4).map(TrianglePacket::new));
-        let first_sphere = self.spheres.len() as u32;
-        self.spheres.extend(
-            prims
-                .iter()
-                .filter(|&&id| id as usize >= triangles.len())
-                .map(|&id| sphere_record(&spheres[id as usize - triangles.len()], id as usize)),
-        );
-        self.leaves.push(Leaf {
-            packets: (packets, self.packets.len() as u32),
-            spheres: (first_sphere, self.spheres.len() as u32),
-        });
-        LEAF | (self.leaves.len() as u32 - 1)
-    }
-}
-
-impl Node {
-    const EMPTY: Node = Node {
-        min: [[0.0; WIDTH]; 3],
-        max: [[0.0; WIDTH]; 3],
-        child: [0; WIDTH],
-        valid: 0,
-    };
-
-    fn set_child(&mut self, i: usize, aabb: &Aabb, child: u32) {
-        for axis in 0..3 {
-            self.min[axis][i] = aabb.min[axis];
-            self.max[axis][i] = aabb.max[axis];
-        }
-        self.child[i] = child;
-        self.valid |= 1 << i;
-    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geometry::{Sphere, TriangleMesh};
     use crate::sampling::Rng;
 
     /// Every traversal stack (the small and the large array, the heap) answers like the brute
