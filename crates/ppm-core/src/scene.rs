@@ -138,7 +138,7 @@ impl SceneBuilder {
             } else {
                 let sphere = *geometry.sphere(prim);
                 let le = self.materials[sphere.material as usize].emission;
-                (le.max_element() > 0.0).then_some(Light::Sphere { sphere, le, prim })
+                (le.max_element() > 0.0).then(|| Light::sphere(sphere, le, prim))
             };
             if let Some(light) = light {
                 prim_light[prim as usize] = lights.len() as u32;
@@ -195,7 +195,7 @@ impl Scene {
     /// The light of an emissive primitive and the probability that [`Scene::choose_light`]
     /// picks it; `None` if the primitive does not emit.
     #[inline]
-    pub fn light_of_prim(&self, prim: u32) -> Option<(&Light, f32)> {
+    pub(crate) fn light_of_prim(&self, prim: u32) -> Option<(&Light, f32)> {
         let i = *self.prim_light.get(prim as usize)?;
         (i != u32::MAX).then(|| {
             (
