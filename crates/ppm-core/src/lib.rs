@@ -42,6 +42,7 @@ pub mod metrics;
 pub mod photon;
 pub mod sampling;
 pub mod scene;
+mod simd;
 
 pub use error::SceneError;
 pub use glam::{Vec2, Vec3};

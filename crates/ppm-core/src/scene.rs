@@ -138,7 +138,7 @@ impl SceneBuilder {
             } else {
                 let sphere = *geometry.sphere(prim);
                 let le = self.materials[sphere.material as usize].emission;
-                (le.max_element() > 0.0).then_some(Light::Sphere { sphere, le, prim })
+                (le.max_element() > 0.0).then(|| Light::sphere(sphere, le, prim))
             };
             if let Some(light) = light {
                 prim_light[prim as usize] = lights.len() as u32;
@@ -188,15 +188,18 @@ impl SceneBuilder {
             }
         };
         match light {
-            Light::Triangle { prim, .. } => {
+            Light::Triangle(light) => {
                 format!(
-                    "emissive triangle {prim} ({})",
-                    material(geometry.triangle(*prim).1)
+                    "emissive triangle {} ({})",
+                    light.prim,
+                    material(geometry.triangle(light.prim).1)
                 )
             }
-            Light::Sphere { sphere, prim, .. } => {
-                format!("emissive sphere {prim} ({})", material(sphere.material))
-            }
+            Light::Sphere(light) => format!(
+                "emissive sphere {} ({})",
+                light.prim,
+                material(light.sphere.material)
+            ),
             Light::Point(p) => format!("point light {point_index} (intensity {})", p.intensity),
         }
     }
@@ -234,7 +237,7 @@ impl Scene {
     /// The light of an emissive primitive and the probability that [`Scene::choose_light`]
     /// picks it; `None` if the primitive does not emit.
     #[inline]
-    pub fn light_of_prim(&self, prim: u32) -> Option<(&Light, f32)> {
+    pub(crate) fn light_of_prim(&self, prim: u32) -> Option<(&Light, f32)> {
         let i = *self.prim_light.get(prim as usize)?;
         (i != u32::MAX).then(|| {
             (

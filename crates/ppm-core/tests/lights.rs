@@ -3,7 +3,7 @@
 
 use glam::{DVec3, Vec3};
 use ppm_core::geometry::{intersect_triangle, Sphere, Triangle};
-use ppm_core::light::{Light, PointLight};
+use ppm_core::light::{Light, PointLight, SphereLight, TriangleLight};
 use ppm_core::prelude::{Bsdf, Camera, Material, SceneBuilder, TriangleMesh};
 use ppm_core::sampling::{uniform_sphere, Rng};
 use std::f64::consts::PI;
@@ -52,18 +52,18 @@ fn triangle_light() -> Light {
 
 fn sphere_light(inward: bool) -> Light {
     let s = Sphere::new(Vec3::new(0.3, 2.0, -0.2), 0.7, 0);
-    Light::Sphere {
-        sphere: if inward { s.inward() } else { s },
-        le: Vec3::new(2.0, 1.0, 0.5),
-        prim: 0,
-    }
+    Light::sphere(
+        if inward { s.inward() } else { s },
+        Vec3::new(2.0, 1.0, 0.5),
+        0,
+    )
 }
 
 fn triangle_area() -> f64 {
-    let Light::Triangle { area, .. } = triangle_light() else {
+    let Light::Triangle(light) = triangle_light() else {
         unreachable!()
     };
-    area as f64
+    light.area as f64
 }
 
 /// The fraction of a sphere's area that faces a point at distance `d` from its center.
@@ -113,7 +113,7 @@ fn solid_angle_pdf_integrates_over_directions() {
     // the visible fraction for a sphere seen from outside, one from inside an inward sphere.
     let mut rng = Rng::new(2, 0, 0);
     let p = Vec3::new(0.1, 0.4, 0.0);
-    let Light::Triangle { tri, normal, .. } = triangle_light() else {
+    let Light::Triangle(TriangleLight { tri, normal, .. }) = triangle_light() else {
         unreachable!()
     };
     let light = triangle_light();
@@ -130,7 +130,7 @@ fn solid_angle_pdf_integrates_over_directions() {
         (true, Vec3::new(0.5, 2.1, 0.0)),
     ] {
         let light = sphere_light(inward);
-        let Light::Sphere { sphere, .. } = light else {
+        let Light::Sphere(SphereLight { sphere, .. }) = light else {
             unreachable!()
         };
         let expected = if inward {
@@ -189,7 +189,7 @@ fn sample_direct_pdf_equals_pdf_direct() {
         // (p is outside both spheres).
         assert_eq!(
             none > 0,
-            matches!(light, Light::Sphere { .. }),
+            matches!(light, Light::Sphere(_)),
             "{some} samples, {none} rejected"
         );
     }
@@ -394,11 +394,7 @@ fn irradiance_from_small_area_lights_matches_closed_forms() {
 
     // A sphere entirely above the horizon: E = pi le (r/D)^2 cos(theta), like a point source.
     let sphere = Sphere::new(Vec3::new(0.3, 2.0, 0.1), 0.25, 0);
-    let light = Light::Sphere {
-        sphere,
-        le,
-        prim: 0,
-    };
+    let light = Light::sphere(sphere, le, 0);
     for n in [Vec3::Y, Vec3::new(0.4, 1.0, 0.0).normalize()] {
         let to_center = sphere.center - Vec3::ZERO;
         let exact = PI
@@ -417,11 +413,11 @@ fn irradiance_from_small_area_lights_matches_closed_forms() {
 fn grazing_and_degenerate_reference_points_give_finite_values() {
     let mut rng = Rng::new(6, 0, 0);
     let light = triangle_light();
-    let Light::Triangle { tri, normal, .. } = light else {
+    let Light::Triangle(TriangleLight { tri, normal, .. }) = light else {
         unreachable!()
     };
     let sphere = sphere_light(false);
-    let Light::Sphere { sphere: s, .. } = sphere else {
+    let Light::Sphere(SphereLight { sphere: s, .. }) = sphere else {
         unreachable!()
     };
     let points = [

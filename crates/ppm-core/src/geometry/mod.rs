@@ -12,7 +12,7 @@ mod triangle_packet;
 
 pub use bvh::Geometry;
 pub use mesh::TriangleMesh;
-pub use ray::{offset_origin, Ray};
+pub use ray::Ray;
 pub use sphere::Sphere;
 pub use triangle::{intersect_triangle, Triangle};
 

@@ -22,7 +22,7 @@ const OFFSET_SCALE: f32 = 1.0 / (1 << 21) as f32;
 /// The distance scales with the magnitude of `p` (not a fixed epsilon), so a scene far from the
 /// origin or a tiny scene is as safe as a unit-sized one.
 #[inline]
-pub fn offset_origin(p: Vec3, ng: Vec3, dir: Vec3) -> Vec3 {
+pub(crate) fn offset_origin(p: Vec3, ng: Vec3, dir: Vec3) -> Vec3 {
     let d = (p.abs().max_element() * OFFSET_SCALE).max(f32::MIN_POSITIVE);
     let offset = if dir.dot(ng) >= 0.0 { ng * d } else { ng * -d };
     let moved = p + offset;

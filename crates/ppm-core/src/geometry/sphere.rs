@@ -45,8 +45,8 @@ impl Sphere {
     /// The surface point nearest to `p` (a hit point computed as o + t d, reprojected so that
     /// it lies on the sphere to float precision) and its geometric normal.
     ///
-    /// No (u, v) parameters: nothing in the renderer textures a sphere, and their atan2 and
-    /// acos cost about 1% of a photon-mapping iteration.
+    /// No (u, v) parameters: nothing in the renderer textures a sphere, so their atan2 and
+    /// acos would be wasted on every hit.
     #[inline]
     pub fn surface(&self, p: Vec3) -> (Vec3, Vec3) {
         // In double precision and rounded once, so the point is within half an ulp per

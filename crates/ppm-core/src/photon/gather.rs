@@ -11,13 +11,11 @@
 //!
 //! summed per lane and added up across the lanes at the end. Candidates outside the sphere
 //! or from the other side are masked to zero (not multiplied by a zero weight, so a huge flux
-//! next door cannot turn into NaN). The AVX version and the portable one perform the same
-//! operations in the same order, so they agree bit for bit (tested).
+//! next door cannot turn into NaN). Written once over [`F32x8`], whose AVX and portable forms
+//! agree bit for bit, and tested lane by lane against the scalar formula.
 
+use crate::simd::{F32x8, LANES};
 use glam::Vec3;
-
-/// Candidates tested at once.
-pub(super) const LANES: usize = 8;
 
 /// The stored photons as columns (structure of arrays), in the grid's order, each with
 /// [`LANES`] entries of padding so that a block read never runs out of bounds.
@@ -97,111 +95,47 @@ pub(super) struct FluxQuery {
 
 /// Per-lane running sums of the weighted flux, one per channel.
 pub(super) struct FluxSum {
-    lanes: [[f32; LANES]; 3],
+    lanes: [F32x8; 3],
 }
 
 impl FluxSum {
     pub(super) fn new() -> Self {
         FluxSum {
-            lanes: [[0.0; LANES]; 3],
+            lanes: [F32x8::zero(); 3],
         }
     }
 
-    /// Adds the first `valid` candidates of `block` (the others are masked off).
+    /// Adds the first `valid` candidates of `block` (the others are masked off): per lane k,
+    /// `Phi_k max(norm - slope d_k², 0)` where `k < valid`, `d_k² <= r²` and `wi_k . n > 0`.
     #[inline(always)]
     pub(super) fn add(&mut self, block: Block<'_>, valid: usize, q: &FluxQuery) {
-        #[cfg(all(target_arch = "x86_64", target_feature = "avx"))]
-        {
-            self.add_avx(block, valid, q)
-        }
-        #[cfg(not(all(target_arch = "x86_64", target_feature = "avx")))]
-        {
-            self.add_portable(block, valid, q)
+        let load = F32x8::from_array;
+        let splat = F32x8::splat;
+        let [xs, ys, zs] = block.position;
+        let [wx, wy, wz] = block.wi;
+        let (dx, dy, dz) = (
+            load(xs) - splat(q.p.x),
+            load(ys) - splat(q.p.y),
+            load(zs) - splat(q.p.z),
+        );
+        let d2 = (dx * dx + dy * dy) + dz * dz;
+        let side = (load(wx) * splat(q.n.x) + load(wy) * splat(q.n.y)) + load(wz) * splat(q.n.z);
+        // max(x, 0) returns 0 for NaN (the second operand), like f32::max.
+        let weight = (splat(q.norm) - splat(q.slope) * d2).max(F32x8::zero());
+        let lane = load(&[0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0]);
+        // Ordered comparisons: false for NaN.
+        let counts =
+            lane.lt(splat(valid.min(LANES) as f32)) & d2.le(splat(q.r2)) & side.gt(F32x8::zero());
+        for (sum, flux) in self.lanes.iter_mut().zip(block.flux) {
+            *sum = *sum + counts.select_or_zero(weight * load(flux));
         }
     }
 
     /// The sum over all lanes, lane 0 first.
     #[inline]
     pub(super) fn total(&self) -> Vec3 {
-        let sum = |lanes: &[f32; LANES]| lanes.iter().fold(0.0, |s, &x| s + x);
-        Vec3::new(
-            sum(&self.lanes[0]),
-            sum(&self.lanes[1]),
-            sum(&self.lanes[2]),
-        )
-    }
-
-    /// [`FluxSum::add`] in plain Rust.
-    #[cfg_attr(
-        all(target_arch = "x86_64", target_feature = "avx"),
-        allow(dead_code) // only the tests call it there
-    )]
-    #[inline(always)]
-    fn add_portable(&mut self, block: Block<'_>, valid: usize, q: &FluxQuery) {
-        let [xs, ys, zs] = block.position;
-        let [wx, wy, wz] = block.wi;
-        for k in 0..LANES {
-            let (dx, dy, dz) = (xs[k] - q.p.x, ys[k] - q.p.y, zs[k] - q.p.z);
-            let d2 = dx * dx + dy * dy + dz * dz;
-            let side = wx[k] * q.n.x + wy[k] * q.n.y + wz[k] * q.n.z;
-            let weight = (q.norm - q.slope * d2).max(0.0);
-            let counts = k < valid && d2 <= q.r2 && side > 0.0;
-            for (sum, flux) in self.lanes.iter_mut().zip(block.flux) {
-                sum[k] += if counts { weight * flux[k] } else { 0.0 };
-            }
-        }
-    }
-
-    /// [`FluxSum::add`] with 8-wide AVX.
-    #[cfg(all(target_arch = "x86_64", target_feature = "avx"))]
-    #[inline(always)]
-    fn add_avx(&mut self, block: Block<'_>, valid: usize, q: &FluxQuery) {
-        use std::arch::x86_64::*;
-        const _: () = assert!(LANES == 8, "one __m256 holds the block");
-        // SAFETY: AVX is enabled for this whole build (cfg above), and every load and store
-        // reads or writes exactly one `[f32; 8]` through a valid reference (unaligned access).
-        unsafe {
-            let load = |a: &[f32; LANES]| _mm256_loadu_ps(a.as_ptr());
-            let dx = _mm256_sub_ps(load(block.position[0]), _mm256_set1_ps(q.p.x));
-            let dy = _mm256_sub_ps(load(block.position[1]), _mm256_set1_ps(q.p.y));
-            let dz = _mm256_sub_ps(load(block.position[2]), _mm256_set1_ps(q.p.z));
-            let d2 = _mm256_add_ps(
-                _mm256_add_ps(_mm256_mul_ps(dx, dx), _mm256_mul_ps(dy, dy)),
-                _mm256_mul_ps(dz, dz),
-            );
-            let side = _mm256_add_ps(
-                _mm256_add_ps(
-                    _mm256_mul_ps(load(block.wi[0]), _mm256_set1_ps(q.n.x)),
-                    _mm256_mul_ps(load(block.wi[1]), _mm256_set1_ps(q.n.y)),
-                ),
-                _mm256_mul_ps(load(block.wi[2]), _mm256_set1_ps(q.n.z)),
-            );
-            // max(x, 0) returns 0 for NaN, like f32::max.
-            let weight = _mm256_max_ps(
-                _mm256_sub_ps(
-                    _mm256_set1_ps(q.norm),
-                    _mm256_mul_ps(_mm256_set1_ps(q.slope), d2),
-                ),
-                _mm256_setzero_ps(),
-            );
-            let lane = _mm256_setr_ps(0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0);
-            // Ordered, non-signalling comparisons: false for NaN, like the scalar ones.
-            let counts = _mm256_and_ps(
-                _mm256_and_ps(
-                    _mm256_cmp_ps::<_CMP_LT_OQ>(
-                        lane,
-                        _mm256_set1_ps(valid.min(LANES) as i32 as f32),
-                    ),
-                    _mm256_cmp_ps::<_CMP_LE_OQ>(d2, _mm256_set1_ps(q.r2)),
-                ),
-                _mm256_cmp_ps::<_CMP_GT_OQ>(side, _mm256_setzero_ps()),
-            );
-            for (sum, flux) in self.lanes.iter_mut().zip(block.flux) {
-                let term = _mm256_and_ps(counts, _mm256_mul_ps(weight, load(flux)));
-                let s = _mm256_add_ps(_mm256_loadu_ps(sum.as_ptr()), term);
-                _mm256_storeu_ps(sum.as_mut_ptr(), s);
-            }
-        }
+        let sum = |lanes: F32x8| lanes.to_array().iter().fold(0.0, |s, &x| s + x);
+        Vec3::new(sum(self.lanes[0]), sum(self.lanes[1]), sum(self.lanes[2]))
     }
 }
 
@@ -210,8 +144,8 @@ mod tests {
     use super::*;
     use crate::sampling::Rng;
 
-    /// The AVX and portable blocks agree bit for bit, and both equal the per-photon formula,
-    /// on blocks with candidates inside, outside, on the sphere, from behind, huge fluxes
+    /// Every lane of the block sum equals the per-photon formula evaluated in scalar code, bit
+    /// for bit, on blocks with candidates inside, outside, on the sphere, from behind, huge fluxes
     /// outside and padding.
     #[test]
     #[allow(clippy::needless_range_loop)] // lanes index several arrays at once
@@ -256,15 +190,9 @@ mod tests {
             } else {
                 LANES
             };
-            let mut portable = FluxSum::new();
-            portable.add_portable(block, valid, &q);
-            #[cfg(all(target_arch = "x86_64", target_feature = "avx"))]
-            {
-                let mut avx = FluxSum::new();
-                avx.add_avx(block, valid, &q);
-                let bits = |s: &FluxSum| s.lanes.map(|l| l.map(f32::to_bits));
-                assert_eq!(bits(&avx), bits(&portable), "round {round}");
-            }
+            let mut sum = FluxSum::new();
+            sum.add(block, valid, &q);
+            let lanes = sum.lanes.map(F32x8::to_array);
             for k in 0..LANES {
                 let x = Vec3::new(c[0][0][k], c[0][1][k], c[0][2][k]);
                 let flux = Vec3::new(c[1][0][k], c[1][1][k], c[1][2][k]);
@@ -277,12 +205,9 @@ mod tests {
                 } else {
                     Vec3::ZERO
                 };
-                let got = Vec3::new(
-                    portable.lanes[0][k],
-                    portable.lanes[1][k],
-                    portable.lanes[2][k],
-                );
-                assert_eq!(got, expected, "round {round} lane {k}");
+                let got = Vec3::new(lanes[0][k], lanes[1][k], lanes[2][k]);
+                let bits = |v: Vec3| v.to_array().map(f32::to_bits);
+                assert_eq!(bits(got), bits(expected), "round {round} lane {k}");
             }
         }
         assert!(counted > 1000, "{counted}");

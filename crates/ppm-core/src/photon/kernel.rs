@@ -51,7 +51,7 @@ impl Kernel {
 
     /// `(norm, slope)` with `weight(d²) = max(norm - slope d², 0)` inside the disc.
     #[inline]
-    pub fn coefficients(&self) -> (f32, f32) {
+    pub(crate) fn coefficients(&self) -> (f32, f32) {
         (self.norm, self.slope)
     }
 

@@ -1,4 +1,7 @@
-//! The photon record: 32 bytes, one half cache line, read by the gather loop.
+//! The photon record: 32 bytes, as the photon pass stores it and the hash grid sorts it.
+//!
+//! The density estimate does not read records: the grid copies position, flux and the
+//! unfolded direction into columns (see `grid`), 8 candidates per block.
 
 use glam::Vec3;
 
@@ -14,7 +17,8 @@ use glam::Vec3;
 /// |     28 |     4 | `path`     | `u32` index of the light path that deposited it |
 ///
 /// The size is a power of two and the alignment equals it, so a record never straddles a
-/// cache line and the gather loop touches exactly one line per two photons.
+/// cache line: the append buffer, the counting sort and the per-bucket sort move whole
+/// records, and [`super::HashGrid::for_each_in_radius`] hands them out.
 ///
 /// # Direction convention
 ///
@@ -103,8 +107,8 @@ impl Photon {
     }
 }
 
-/// What a density estimate reads of a photon inside the gather disc: its flux and the side
-/// it arrived from, 16 bytes (see [`super::HashGrid::for_each_flux_in_radius`]).
+/// What a density estimate needs of a photon inside the gather disc: its flux and the side
+/// it arrived from, 16 bytes (handed out by [`super::HashGrid::for_each_flux_in_radius`]).
 #[repr(C, align(16))]
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FluxRecord {

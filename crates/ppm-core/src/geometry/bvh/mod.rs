@@ -1,0 +1,235 @@
+//! All primitives of a scene under one BVH: closest-hit and any-hit queries.
+//!
+//! obvhs builds a binary BVH (PLOC, then reinsertion and SAH leaf collapsing, at most 2
+//! primitives per leaf); we collapse it into an 8-wide BVH (each node opens its children with
+//! the largest surface area until it holds eight, as Embree's BVH8 does) and traverse that
+//! with our own loop: one node tests the boxes of all eight children at once (one 8-lane
+//! [`crate::simd::F32x8`] operation per step), and a leaf tests its triangles as one 4-wide
+//! packet ([`TrianglePacket`]), lane for lane the scalar watertight test.
+//!
+//! - `mod.rs` (this file): the primitive storage ([`Geometry`]) and what a hit returns;
+//! - `wide.rs`: the 8-wide nodes and leaves, collapsed from obvhs's binary BVH;
+//! - `traversal.rs`: the robust slab test and the stack traversal (closest and any hit).
+//!
+//! The slab test is robust: the exit distance of every box is scaled by 1 + 2 gamma(3) (Ize
+//! 2013, "Robust BVH Ray Traversal"), which covers the three roundings of (bound - o) / d, and a
+//! zero direction component uses a finite huge inverse instead of infinity so no 0 * inf = NaN
+//! can drop a box. Together with the watertight triangle test no ray slips between primitives
+//! or past a box it touches.
+//!
+//! Why not obvhs's own traversals: its compressed wide BVH (CWBVH) clamps every box entry to
+//! an absolute t >= 1e-4 (`cwbvh::node::EPSILON`), so a ray 1e-5 from a wall of a unit box
+//! passes through the wall, and its `Bvh2` traversal replaces direction components below
+//! f32::EPSILON by f32::EPSILON and has no Ize correction. Our own loop also resolves equal distances by primitive id, so the BVH
+//! answers exactly like `intersect_brute_force`.
+
+mod traversal;
+mod wide;
+
+use super::triangle_packet::TrianglePacket;
+use super::{Hit, Ray, Sphere, Triangle, TriangleMesh};
+use glam::{DVec3, Vec2, Vec3, Vec3A};
+use obvhs::aabb::Aabb;
+use obvhs::bvh2::Bvh2;
+use obvhs::BvhBuildParams;
+use wide::{Leaf, Node, SphereRecord, WideBvh, WIDTH};
+
+/// The scene's geometry and its acceleration structure. Immutable once built.
+pub struct Geometry {
+    /// The 8-wide BVH; the root is node 0 (no nodes without primitives).
+    nodes: Vec<Node>,
+    leaves: Vec<Leaf>,
+    packets: Vec<TrianglePacket>,
+    sphere_records: Vec<SphereRecord>,
+    /// Triangles, their unit geometric normals, materials and shading-normal slots, by
+    /// global id. The normals are computed once here, by the very expression a hit would
+    /// evaluate, instead of per hit.
+    triangles: Vec<Triangle>,
+    tri_geometric_normals: Vec<Vec3>,
+    tri_materials: Vec<u32>,
+    /// Index into `shading_normals` per triangle, u32::MAX when the mesh has no normals.
+    tri_normals: Vec<u32>,
+    shading_normals: Vec<[Vec3; 3]>,
+    spheres: Vec<Sphere>,
+    skipped: usize,
+    bounds: (Vec3, Vec3),
+    /// The traversal stack never holds more entries: WIDTH - 1 per level of the tree (a node
+    /// pushes all its children met but the one it descends into), plus one.
+    stack_size: usize,
+}
+
+impl Geometry {
+    /// Builds the BVH over all triangles of `meshes` and all `spheres`. Degenerate triangles
+    /// (zero area or non-finite vertices) are skipped and counted in [`Geometry::skipped_triangles`].
+    pub fn new(meshes: &[TriangleMesh], spheres: &[Sphere]) -> Self {
+        let mut triangles = Vec::new();
+        let mut tri_geometric_normals = Vec::new();
+        let mut tri_materials = Vec::new();
+        let mut tri_normals = Vec::new();
+        let mut shading_normals = Vec::new();
+        let mut skipped = 0;
+        for mesh in meshes {
+            let has_normals = mesh.normals.len() == mesh.positions.len();
+            for (i, idx) in mesh.indices.iter().enumerate() {
+                let vertex = |k: usize| mesh.positions.get(idx[k] as usize).copied();
+                let (Some(v0), Some(v1), Some(v2)) = (vertex(0), vertex(1), vertex(2)) else {
+                    skipped += 1;
+                    continue;
+                };
+                let tri = Triangle { v: [v0, v1, v2] };
+                let n = tri.cross();
+                let finite = v0.is_finite() && v1.is_finite() && v2.is_finite();
+                // A zero cross product covers repeated vertices and collinear ones.
+                if !finite || !n.is_finite() || n.length_squared() == 0.0 {
+                    skipped += 1;
+                    continue;
+                }
+                triangles.push(tri);
+                tri_geometric_normals.push(n.normalize());
+                tri_materials.push(mesh.materials.get(i).copied().unwrap_or(0));
+                if has_normals {
+                    tri_normals.push(shading_normals.len() as u32);
+                    shading_normals.push(idx.map(|k| mesh.normals[k as usize]));
+                } else {
+                    tri_normals.push(u32::MAX);
+                }
+            }
+        }
+        let spheres = spheres.to_vec();
+
+        let mut aabbs: Vec<Aabb> = triangles
+            .iter()
+            .map(|t| {
+                let [a, b, c] = t.v.map(Vec3A::from);
+                Aabb::new(a.min(b).min(c), a.max(b).max(c))
+            })
+            .collect();
+        aabbs.extend(spheres.iter().map(|s| {
+            let r = s.radius.abs();
+            if s.center.is_finite() && r.is_finite() {
+                let c = Vec3A::from(s.center);
+                Aabb::new(c - r, c + r)
+            } else {
+                // Never hit (see `intersect_sphere`); keep it out of the way of the build.
+                Aabb::from_point(Vec3A::ZERO)
+            }
+        }));
+        let bounds = aabbs.iter().fold(None, |acc: Option<Aabb>, b| {
+            Some(acc.map_or(*b, |a| a.union(b)))
+        });
+        let bounds = bounds.map_or((Vec3::ZERO, Vec3::ZERO), |b| (b.min.into(), b.max.into()));
+
+        let mut wide = WideBvh::default();
+        if !aabbs.is_empty() {
+            // At most 2 primitives per leaf (one quad: a half-filled packet). The walls of a
+            // box scene span it, so bigger leaves cull less, and single-primitive leaves make
+            // the tree deeper for no fewer tests.
+            let params = BvhBuildParams {
+                max_prims_per_leaf: 2,
+                ..BvhBuildParams::medium_build()
+            };
+            let bvh: Bvh2 =
+                obvhs::bvh2::builder::build_bvh2(&aabbs, params, &mut Default::default());
+            wide.build(&bvh, &triangles, &spheres);
+        }
+        Geometry {
+            nodes: wide.nodes,
+            leaves: wide.leaves,
+            packets: wide.packets,
+            sphere_records: wide.spheres,
+            triangles,
+            tri_geometric_normals,
+            tri_materials,
+            tri_normals,
+            shading_normals,
+            spheres,
+            skipped,
+            bounds,
+            stack_size: (WIDTH - 1) * wide.depth + 1,
+        }
+    }
+
+    /// Everything the integrators need about the hit on primitive `prim` at distance `t`.
+    #[inline(always)]
+    pub(super) fn hit(&self, ray: &Ray, t: f32, prim: u32, uv: Vec2) -> Hit {
+        let n_tri = self.triangles.len() as u32;
+        if prim < n_tri {
+            let i = prim as usize;
+            let [v0, v1, v2] = self.triangles[i].v;
+            // The point from barycentrics in double precision, rounded once: it lies on the
+            // triangle's plane to within half an ulp of its own coordinates, whatever the size
+            // of the triangle, which is what `offset_origin` assumes.
+            let (b1, b2) = (uv.x as f64, uv.y as f64);
+            let p = DVec3::from(v0) * (1.0 - b1 - b2) + DVec3::from(v1) * b1 + DVec3::from(v2) * b2;
+            let ng = self.tri_geometric_normals[i];
+            let ns = match self.tri_normals[i] {
+                u32::MAX => ng,
+                k => {
+                    let [n0, n1, n2] = self.shading_normals[k as usize];
+                    let n = (n0 * (1.0 - uv.x - uv.y) + n1 * uv.x + n2 * uv.y).normalize_or_zero();
+                    if n == Vec3::ZERO {
+                        ng
+                    } else if n.dot(ng) < 0.0 {
+                        -n
+                    } else {
+                        n
+                    }
+                }
+            };
+            Hit {
+                t,
+                p: p.as_vec3(),
+                ng,
+                ns,
+                uv,
+                material: self.tri_materials[i],
+                prim,
+            }
+        } else {
+            let s = &self.spheres[(prim - n_tri) as usize];
+            let (p, ng) = s.surface(ray.at(t));
+            Hit {
+                t,
+                p,
+                ng,
+                ns: ng,
+                uv,
+                material: s.material,
+                prim,
+            }
+        }
+    }
+
+    /// Number of triangles kept.
+    pub fn triangle_count(&self) -> usize {
+        self.triangles.len()
+    }
+
+    /// Number of spheres.
+    pub fn sphere_count(&self) -> usize {
+        self.spheres.len()
+    }
+
+    /// Triangles dropped as degenerate.
+    pub fn skipped_triangles(&self) -> usize {
+        self.skipped
+    }
+
+    /// The triangle with global id `prim` (< triangle_count) and its material.
+    pub fn triangle(&self, prim: u32) -> (Triangle, u32) {
+        (
+            self.triangles[prim as usize],
+            self.tri_materials[prim as usize],
+        )
+    }
+
+    /// The sphere with global id `prim` (>= triangle_count).
+    pub fn sphere(&self, prim: u32) -> &Sphere {
+        &self.spheres[prim as usize - self.triangles.len()]
+    }
+
+    /// World-space bounds (min, max) of all primitives.
+    pub fn bounds(&self) -> (Vec3, Vec3) {
+        self.bounds
+    }
+}

@@ -1,0 +1,182 @@
+//! Lights: every emissive triangle and sphere is an area light; point lights have no geometry.
+//!
+//! A closed set of models behind one enum, one file per model, as for the BSDFs.
+//!
+//! # The contract (every model follows it)
+//! - Lights emit radiance; photons leave them carrying flux (`Importance` transport starts
+//!   here, see [`crate::bsdf::TransportMode`]).
+//! - Area lights ([`TriangleLight`], [`SphereLight`]) emit radiance `le` from one side, the
+//!   side their geometric (emitting) normal points to, with a cosine (Lambertian)
+//!   distribution: [`Light::le`] is `le` toward directions `w` with `n . w > 0` and zero
+//!   otherwise. Their power is Phi = pi A Le.
+//! - Delta lights ([`PointLight`]) have no area: only [`Light::sample_direct`] finds them, with
+//!   pdf 1 (a discrete choice), and [`Light::pdf_direct`] and [`Light::le`] are zero. A point
+//!   light of intensity I (W/sr) has Phi = 4 pi I.
+//! - [`Light::pdf_direct`] is the solid-angle density with which [`Light::sample_direct`]
+//!   produces a point, computed by the same expressions, so the two agree exactly.
+//! - [`Light::sample_emission`] starts a light path; the mean of its `flux` is
+//!   [`Light::power`].
+//!
+//! Every match on [`Light`] lists all variants: a new model does not compile until each
+//! operation handles it. To add one, see ARCHITECTURE.md ("To add a light").
+
+mod area;
+mod point;
+mod sphere;
+mod triangle;
+
+pub use point::PointLight;
+pub use sphere::SphereLight;
+pub use triangle::TriangleLight;
+
+use crate::geometry::{Ray, Sphere, Triangle};
+use glam::{Vec2, Vec3};
+
+/// The largest power per channel (W) a light may emit. f32 holds up to 3.4e38, but a photon's
+/// flux is divided by the light's selection probability and the density estimate multiplies
+/// it by 1/(pi r^2) (1e6 and more for small radii) and sums many photons; 1e20 W leaves those
+/// steps about 18 orders of magnitude of headroom, and no physically scaled scene comes near
+/// it (a 100 W bulb is 1e2 W; the sun, 3.8e26 W, must be modelled by its irradiance).
+pub const MAX_LIGHT_POWER: f32 = 1e20;
+
+/// One light of the scene.
+#[derive(Clone, Copy, Debug)]
+pub enum Light {
+    /// An emissive triangle.
+    Triangle(TriangleLight),
+    /// An emissive sphere; it emits inward when `sphere.inward` is set.
+    Sphere(SphereLight),
+    /// A point light (a delta light: found only by light sampling).
+    Point(PointLight),
+}
+
+/// A light sample for next-event estimation, seen from a shading point.
+#[derive(Clone, Copy, Debug)]
+pub struct DirectSample {
+    /// Point on the light, and its geometric normal (zero for point lights).
+    pub p: Vec3,
+    pub n: Vec3,
+    /// Unit direction from the shading point toward the light, and the distance.
+    pub wi: Vec3,
+    pub dist: f32,
+    /// Radiance arriving along -wi (for point lights: intensity / dist^2).
+    pub li: Vec3,
+    /// Solid-angle pdf of this sample, not counting the choice of the light (1 for delta lights).
+    pub pdf: f32,
+    pub is_delta: bool,
+}
+
+/// A sampled emission: the start of a light path.
+#[derive(Clone, Copy, Debug)]
+pub struct EmissionSample {
+    pub ray_origin: Vec3,
+    /// Geometric normal at the origin (zero for point lights), for offsetting the ray.
+    pub n: Vec3,
+    pub dir: Vec3,
+    /// Flux weight Le * cos / (p_area * p_dir), not counting the choice of the light.
+    pub flux: Vec3,
+    /// Area pdf of the origin (1 for point lights) and solid-angle pdf of the direction.
+    pub pdf_pos: f32,
+    pub pdf_dir: f32,
+}
+
+impl Light {
+    /// An area light on an emissive triangle; `None` for a degenerate one.
+    pub fn triangle(tri: Triangle, le: Vec3, prim: u32) -> Option<Self> {
+        TriangleLight::new(tri, le, prim).map(Light::Triangle)
+    }
+
+    /// An area light on an emissive sphere (global primitive id `prim`).
+    pub fn sphere(sphere: Sphere, le: Vec3, prim: u32) -> Self {
+        Light::Sphere(SphereLight { sphere, le, prim })
+    }
+
+    /// Total emitted power per channel: pi * A * Le for an area light, 4 pi I for a point light.
+    pub fn power(&self) -> Vec3 {
+        match self {
+            Light::Triangle(light) => light.power(),
+            Light::Sphere(light) => light.power(),
+            Light::Point(light) => light.power(),
+        }
+    }
+
+    /// `Ok` if every channel of [`Light::power`] is finite and at most [`MAX_LIGHT_POWER`];
+    /// else the power, computed again in f64 so that an overflowing one is reported by value.
+    pub fn check_power(&self) -> Result<(), f64> {
+        let power = self.power();
+        if power.is_finite() && power.max_element() <= MAX_LIGHT_POWER {
+            return Ok(());
+        }
+        let pi = std::f64::consts::PI;
+        let (scale, value) = match self {
+            Light::Triangle(light) => (pi * light.area as f64, light.le.max_element()),
+            Light::Sphere(light) => (pi * light.sphere.area() as f64, light.le.max_element()),
+            Light::Point(light) => (4.0 * pi, light.intensity.max_element()),
+        };
+        Err(scale * value as f64)
+    }
+
+    /// True for lights that only light sampling can find.
+    pub fn is_delta(&self) -> bool {
+        match self {
+            Light::Triangle(_) | Light::Sphere(_) => false,
+            Light::Point(_) => true,
+        }
+    }
+
+    /// Samples a point on the light as seen from `p` for next-event estimation.
+    /// Area lights: uniform by area, converted to solid angle: pdf = d^2 / (A cos_l).
+    /// `None` if the sampled point faces away (one-sided emission) or is degenerate.
+    #[inline]
+    pub fn sample_direct(&self, p: Vec3, u: Vec2) -> Option<DirectSample> {
+        match self {
+            Light::Triangle(light) => light.emitter(u).sample_direct(p),
+            Light::Sphere(light) => light.emitter(u).sample_direct(p),
+            Light::Point(light) => light.sample_direct(p),
+        }
+    }
+
+    /// The solid-angle pdf with which [`Light::sample_direct`] from `p` would produce the point
+    /// `q` with emitting normal `n` (not counting the choice of the light); 0 for point lights.
+    #[inline]
+    pub fn pdf_direct(&self, p: Vec3, q: Vec3, n: Vec3) -> f32 {
+        match self {
+            Light::Triangle(light) => area::pdf_direct(light.area, p, q, n),
+            Light::Sphere(light) => area::pdf_direct(light.sphere.area(), p, q, n),
+            Light::Point(_) => 0.0,
+        }
+    }
+
+    /// Radiance emitted from a point with geometric normal `n` toward direction `w` (unit):
+    /// one-sided for area lights, zero for point lights.
+    #[inline]
+    pub fn le(&self, n: Vec3, w: Vec3) -> Vec3 {
+        match self {
+            Light::Triangle(light) => area::le(light.le, n, w),
+            Light::Sphere(light) => area::le(light.le, n, w),
+            Light::Point(_) => Vec3::ZERO,
+        }
+    }
+
+    /// Samples the start of a light path: for area lights a point uniform by area (pdf 1/A)
+    /// and a cosine-weighted direction (pdf cos/pi) about the emitting normal, so the flux
+    /// weight Le cos / (p_area p_dir) = pi A Le is the same for every sample. Point lights: a
+    /// uniform direction (pdf 1/(4 pi)), weight 4 pi I.
+    #[inline]
+    pub fn sample_emission(&self, u_pos: Vec2, u_dir: Vec2) -> EmissionSample {
+        match self {
+            Light::Triangle(light) => light.emitter(u_pos).sample_emission(u_dir),
+            Light::Sphere(light) => light.emitter(u_pos).sample_emission(u_dir),
+            Light::Point(light) => light.sample_emission(u_dir),
+        }
+    }
+
+    /// The ray that leaves an emission sample.
+    pub(crate) fn emission_ray(s: &EmissionSample) -> Ray {
+        if s.n == Vec3::ZERO {
+            Ray::new(s.ray_origin, s.dir)
+        } else {
+            Ray::spawn(s.ray_origin, s.n, s.dir)
+        }
+    }
+}

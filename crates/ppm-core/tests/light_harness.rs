@@ -1,0 +1,319 @@
+//! The light test harness.
+//!
+//! Every light model goes through [`light_harness!`]: one line (a light and the points it is
+//! seen from) gives it the same checks of the contract in `light/mod.rs`:
+//!
+//! - `pdf_direct` integrates over the sphere of directions to the probability that
+//!   `sample_direct` returns a sample (1 for a light wholly facing the point, the facing
+//!   fraction for a sphere seen from outside); a delta light has `pdf_direct = 0` and is
+//!   sampled with probability 1 and pdf 1;
+//! - `sample_direct` and `pdf_direct` agree: the pdf of each sample is `pdf_direct` of its
+//!   point, bit for bit, and the samples are distributed by that pdf (the estimate
+//!   E[g(wi) / pdf] equals the integral of g over the directions that see the light);
+//! - the mean of `sample_emission`'s flux is `power()`;
+//! - `le` is one-sided (Lambertian: constant on the side the normal points to, zero on the
+//!   other), zero for a delta light, and agrees with the emission samples' flux.
+//!
+//! The geometry a direction meets is found by [`light_surface`], one exhaustive match: a new
+//! model does not compile here until it says where its surface is. Tests specific to one
+//! model, and closed-form irradiance, are in `lights.rs`. All randomness is seeded.
+
+mod common;
+
+use common::{seed, Stats};
+use glam::Vec3;
+use ppm_core::geometry::{intersect_triangle, Sphere, Triangle};
+use ppm_core::light::{Light, PointLight};
+use ppm_core::sampling::{uniform_sphere, Rng};
+use std::f64::consts::PI;
+
+/// Samples per Monte Carlo estimate.
+const SAMPLES: usize = 200_000;
+
+/// The first point of the light's surface along the ray `p + t w` (t > 0) and its emitting
+/// normal; `None` for a miss and for lights without a surface.
+fn light_surface(light: &Light, p: Vec3, w: Vec3) -> Option<(Vec3, Vec3)> {
+    match light {
+        Light::Triangle(l) => {
+            intersect_triangle(&l.tri, p, w, f32::INFINITY).map(|(t, _, _)| (p + w * t, l.normal))
+        }
+        Light::Sphere(l) => l.sphere.intersect(p, w, f32::INFINITY).map(|t| {
+            let q = p + w * t;
+            let outward = (q - l.sphere.center).normalize();
+            (q, if l.sphere.inward { -outward } else { outward })
+        }),
+        Light::Point(_) => None,
+    }
+}
+
+/// |a - b| within 5 combined standard errors (plus float slack).
+fn assert_agree(a: &Stats, b: &Stats, what: &str) {
+    let tol = 5.0 * a.std_error().hypot(b.std_error()) + 1e-6 * a.mean().abs().max(1e-3);
+    assert!(
+        (a.mean() - b.mean()).abs() <= tol,
+        "{what}: {} +- {} vs {} +- {}",
+        a.mean(),
+        a.std_error(),
+        b.mean(),
+        b.std_error()
+    );
+}
+
+/// The integral of `pdf_direct` over all directions (uniform directions: 4 pi E[pdf at the
+/// surface met]) against the fraction of `sample_direct` calls that return a sample.
+fn check_pdf_integrates(name: &str, light: &Light, points: &[Vec3]) {
+    let mut rng = Rng::new(seed(name), 1, 0);
+    let mut some_light_seen = false;
+    for &p in points {
+        let mut sampled = Stats::default();
+        for _ in 0..SAMPLES {
+            sampled.push(light.sample_direct(p, rng.uniform2()).is_some() as u64 as f64);
+        }
+        if light.is_delta() {
+            // A discrete choice: always the light, with pdf 1; no density over directions.
+            assert_eq!(sampled.mean(), 1.0, "{name}: delta light from {p}");
+            some_light_seen = true;
+            continue;
+        }
+        let mut integral = Stats::default();
+        for _ in 0..SAMPLES {
+            let w = uniform_sphere(rng.uniform2());
+            let pdf = light_surface(light, p, w).map_or(0.0, |(q, n)| light.pdf_direct(p, q, n));
+            assert!(pdf.is_finite() && pdf >= 0.0, "{name}: pdf {pdf}");
+            integral.push(4.0 * PI * pdf as f64);
+        }
+        assert_agree(
+            &integral,
+            &sampled,
+            &format!("{name}: integral of pdf from {p}"),
+        );
+        some_light_seen |= sampled.mean() > 0.1;
+    }
+    assert!(some_light_seen, "{name}: no point sees the light");
+}
+
+/// `sample_direct`'s pdf is `pdf_direct` of the same point, and its samples follow that pdf:
+/// E[g(wi) / pdf] over samples equals the integral of g over the directions that meet the
+/// light's emitting side (uniform directions, 4 pi E[g 1{seen}]), for g(w) = 2 + w.x - w.z.
+fn check_sample_matches_pdf(name: &str, light: &Light, points: &[Vec3]) {
+    let mut rng = Rng::new(seed(name), 2, 0);
+    let g = |w: Vec3| 2.0 + w.x as f64 - w.z as f64;
+    for &p in points {
+        let mut weighted = Stats::default();
+        for _ in 0..SAMPLES {
+            let Some(s) = light.sample_direct(p, rng.uniform2()) else {
+                weighted.push(0.0);
+                continue;
+            };
+            assert!(
+                (s.wi.length() - 1.0).abs() < 1e-5
+                    && ((s.p - p).length() - s.dist).abs() <= 1e-4 * s.dist
+                    && (s.p - p).normalize().dot(s.wi) > 1.0 - 1e-5,
+                "{name}: {s:?} from {p}"
+            );
+            assert!(
+                s.li.is_finite() && s.pdf.is_finite() && s.pdf > 0.0,
+                "{name}: {s:?}"
+            );
+            assert_eq!(s.is_delta, light.is_delta(), "{name}");
+            if light.is_delta() {
+                assert_eq!(s.pdf, 1.0, "{name}: a delta light's discrete pdf");
+                assert_eq!(light.pdf_direct(p, s.p, s.n), 0.0, "{name}");
+                // Radiant intensity over the squared distance (inverse-square law).
+                let expected = light.power() / (4.0 * std::f32::consts::PI * s.dist * s.dist);
+                assert!((s.li - expected).abs().max_element() <= 1e-5 * expected.max_element());
+            } else {
+                assert_eq!(
+                    light.pdf_direct(p, s.p, s.n).to_bits(),
+                    s.pdf.to_bits(),
+                    "{name}: pdf_direct of a sample from {p}"
+                );
+                // The radiance arriving is what the point emits toward p.
+                assert_eq!(s.li, light.le(s.n, -s.wi), "{name}");
+                weighted.push(g(s.wi) / s.pdf as f64);
+            }
+        }
+        if light.is_delta() {
+            continue;
+        }
+        let mut integral = Stats::default();
+        for _ in 0..SAMPLES {
+            let w = uniform_sphere(rng.uniform2());
+            let seen = light_surface(light, p, w).is_some_and(|(_, n)| n.dot(-w) > 0.0);
+            integral.push(if seen { 4.0 * PI * g(w) } else { 0.0 });
+        }
+        assert_agree(&weighted, &integral, &format!("{name}: E[g/pdf] from {p}"));
+    }
+}
+
+/// The mean flux of emission samples is the light's power, channel by channel; directions
+/// are unit and leave the emitting side; pdfs are positive and finite.
+fn check_emitted_power(name: &str, light: &Light) {
+    let mut rng = Rng::new(seed(name), 3, 0);
+    let mut flux = [Stats::default(); 3];
+    let mut direction = [Stats::default(); 3];
+    for _ in 0..SAMPLES {
+        let s = light.sample_emission(rng.uniform2(), rng.uniform2());
+        assert!(
+            s.flux.is_finite() && s.flux.min_element() >= 0.0,
+            "{name}: {s:?}"
+        );
+        assert!((s.dir.length() - 1.0).abs() < 1e-5, "{name}: {s:?}");
+        assert!(s.pdf_pos.is_finite() && s.pdf_pos > 0.0, "{name}: {s:?}");
+        assert!(s.pdf_dir.is_finite() && s.pdf_dir >= 0.0, "{name}: {s:?}");
+        assert!(light.is_delta() || s.dir.dot(s.n) >= 0.0, "{name}: {s:?}");
+        for c in 0..3 {
+            flux[c].push(s.flux[c] as f64);
+            direction[c].push(s.dir[c] as f64);
+        }
+    }
+    let power = light.power();
+    for c in 0..3 {
+        let exact = power[c] as f64;
+        let tol = 5.0 * flux[c].std_error() + 1e-5 * exact;
+        assert!(
+            (flux[c].mean() - exact).abs() <= tol,
+            "{name}: mean flux {} +- {} vs power {exact}",
+            flux[c].mean(),
+            flux[c].std_error()
+        );
+    }
+    if light.is_delta() {
+        // Isotropic: the mean direction is zero (each component has variance 1/3).
+        for d in direction {
+            assert!(
+                d.mean().abs() < 5.0 * (1.0 / 3.0 / SAMPLES as f64).sqrt(),
+                "{name}"
+            );
+        }
+    }
+}
+
+/// `le` is Lambertian and one-sided: the same radiance toward every direction on the side the
+/// normal points to, zero on the other (and zero everywhere for a delta light); and the
+/// emission samples carry it: flux = le pi / pdf_pos (pi A Le with pdf_pos = 1/A).
+fn check_le_one_sided(name: &str, light: &Light) {
+    let mut rng = Rng::new(seed(name), 4, 0);
+    for _ in 0..20_000 {
+        let s = light.sample_emission(rng.uniform2(), rng.uniform2());
+        let w = uniform_sphere(rng.uniform2());
+        let (front, back) = if w.dot(s.n) >= 0.0 { (w, -w) } else { (-w, w) };
+        assert_eq!(light.le(s.n, back), Vec3::ZERO, "{name}: emits backward");
+        let le = light.le(s.n, front);
+        if light.is_delta() {
+            assert_eq!(le, Vec3::ZERO, "{name}: a delta light has no radiance");
+            continue;
+        }
+        if front.dot(s.n) > 0.0 {
+            assert_eq!(le, light.le(s.n, s.n), "{name}: not Lambertian");
+            assert!(le.max_element() > 0.0, "{name}: no emission in front");
+        }
+        if s.flux != Vec3::ZERO {
+            let expected = light.le(s.n, s.n) * std::f32::consts::PI / s.pdf_pos;
+            assert!(
+                (s.flux - expected).abs().max_element() <= 1e-5 * expected.max_element(),
+                "{name}: flux {} vs le pi A = {expected}",
+                s.flux
+            );
+        }
+    }
+}
+
+/// `light_harness! { name: light => [points it is seen from], ... }`: the checks above for
+/// each light, as one module of tests per light.
+macro_rules! light_harness {
+    ($($name:ident: $light:expr => [$($p:expr),* $(,)?],)*) => {
+        $(
+            mod $name {
+                use super::*;
+                fn light() -> Light {
+                    $light
+                }
+                fn points() -> Vec<Vec3> {
+                    vec![$($p),*]
+                }
+                #[test]
+                fn pdf_direct_integrates_to_the_sampled_fraction() {
+                    check_pdf_integrates(stringify!($name), &light(), &points());
+                }
+                #[test]
+                fn sample_direct_follows_pdf_direct() {
+                    check_sample_matches_pdf(stringify!($name), &light(), &points());
+                }
+                #[test]
+                fn mean_emitted_flux_is_the_power() {
+                    check_emitted_power(stringify!($name), &light());
+                }
+                #[test]
+                fn le_is_one_sided() {
+                    check_le_one_sided(stringify!($name), &light());
+                }
+            }
+        )*
+    };
+}
+
+/// A triangle in the plane y = 1 facing down (-y).
+fn downward_triangle() -> Light {
+    let tri = Triangle {
+        v: [
+            Vec3::new(-1.0, 1.0, -0.5),
+            Vec3::new(1.2, 1.0, -0.7),
+            Vec3::new(0.1, 1.0, 1.0),
+        ],
+    };
+    assert!(tri.cross().y < 0.0);
+    Light::triangle(tri, Vec3::new(1.0, 2.0, 3.0), 0).unwrap()
+}
+
+/// A small, slanted, strongly coloured triangle.
+fn slanted_triangle() -> Light {
+    let tri = Triangle {
+        v: [
+            Vec3::new(-0.3, 1.0, 0.0),
+            Vec3::new(0.2, 1.4, -0.2),
+            Vec3::new(0.1, 1.2, 0.3),
+        ],
+    };
+    Light::triangle(tri, Vec3::new(5.0, 0.1, 0.0), 3).unwrap()
+}
+
+fn sphere(inward: bool) -> Light {
+    let s = Sphere::new(Vec3::new(0.3, 2.0, -0.2), 0.7, 0);
+    Light::sphere(
+        if inward { s.inward() } else { s },
+        Vec3::new(2.0, 1.0, 0.5),
+        1,
+    )
+}
+
+fn point() -> Light {
+    Light::Point(PointLight {
+        position: Vec3::new(1.0, 2.0, 3.0),
+        intensity: Vec3::new(1.0, 0.5, 2.0),
+    })
+}
+
+light_harness! {
+    triangle: downward_triangle() => [
+        Vec3::new(0.1, 0.4, 0.0),            // below, in front of it
+        Vec3::new(2.0, -1.0, 0.5),           // off to the side
+        Vec3::new(0.0, 3.0, 0.0),            // behind: never sampled, pdf 0
+    ],
+    triangle_slanted: slanted_triangle() => [
+        Vec3::ZERO,
+        Vec3::new(-1.0, 0.5, 1.0),
+    ],
+    sphere_outward: sphere(false) => [
+        Vec3::new(0.0, 0.5, 0.3),            // outside: the facing cap only
+        Vec3::new(0.3, 2.0, 1.2),            // close to the surface
+    ],
+    sphere_inward: sphere(true) => [
+        Vec3::new(0.5, 2.1, 0.0),            // inside: every point faces it
+        Vec3::new(0.3, 2.0, -0.2),           // at the centre
+    ],
+    point_light: point() => [
+        Vec3::ZERO,
+        Vec3::new(1.0, 2.0, 2.0),
+    ],
+}
