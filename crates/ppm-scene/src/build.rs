@@ -123,7 +123,7 @@ pub fn build(
             defaults.max_depth = d.0;
         }
         if let Some(p) = r.photons {
-            defaults.photons = p.0;
+            defaults.photons = Some(p.0);
         }
         if let Some(radius) = r.radius {
             defaults.radius = Some(radius.0);

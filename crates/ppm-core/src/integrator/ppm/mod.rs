@@ -12,7 +12,9 @@ mod photon_pass;
 mod radius;
 
 pub use eye_pass::{density_estimate, GatherContext};
-pub use photon_pass::{stores_photons, trace_light_path, MAX_LIGHT_PATHS};
+pub use photon_pass::{
+    stores_photons, trace_light_path, PhotonCounters, PhotonSink, MAX_LIGHT_PATHS,
+};
 pub use radius::RadiusSchedule;
 
 use super::{IterationStats, PassTimes, RenderSettings, Stopwatch};
@@ -21,7 +23,6 @@ use crate::photon::{HashGrid, Kernel, PhotonBuffer};
 use crate::scene::Scene;
 use eye_pass::{trace_eye_path, EyeCounters};
 use glam::Vec3;
-use photon_pass::PhotonCounters;
 use rayon::prelude::*;
 
 /// Light paths per parallel work item of the photon pass.
