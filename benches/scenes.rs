@@ -106,11 +106,12 @@ fn photon_map(c: &mut Criterion) {
                     b.iter(|| {
                         let mut sum = Vec3::ZERO;
                         for (hit, wo) in points {
-                            let albedo = match scene.material(hit).bsdf {
-                                Bsdf::Diffuse(d) => d.albedo,
-                                Bsdf::Phong(p) => p.diffuse,
-                                _ => unreachable!("gather points store photons"),
-                            };
+                            let albedo = scene
+                                .material(hit)
+                                .bsdf
+                                .diffuse_part()
+                                .expect("gather points store photons")
+                                .albedo;
                             sum += density_estimate(&ctx, hit, *wo, albedo);
                         }
                         sum

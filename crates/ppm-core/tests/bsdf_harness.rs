@@ -1,8 +1,9 @@
 //! The BSDF test harness.
 //!
 //! Every non-delta BSDF goes through [`bsdf_harness!`]: one line gives it a chi-square test of
-//! `sample` against `pdf`, sample/eval/pdf consistency, reciprocity, energy conservation and
-//! finiteness at grazing angles. The statistics behind them are tested at the end. The delta
+//! `sample` against `pdf`, sample/eval/pdf consistency, reciprocity, energy conservation,
+//! finiteness at grazing angles and the lobe decomposition (flags, diffuse part, non-diffuse
+//! part), which the delta models also go through. The statistics behind them are tested at the end. The delta
 //! models (mirror, glass), the Fresnel term and the shading-normal correction have their own
 //! tests in `bsdf_specular.rs`.
 //!
@@ -14,7 +15,7 @@ use common::{
     chi2_directions, chi2_sf, close, close3, direction, gauss_legendre, seed, sidak, Stats, IORS,
 };
 use glam::{Vec2, Vec3};
-use ppm_core::bsdf::{Bsdf, Lobe, TransportMode};
+use ppm_core::bsdf::{Bsdf, BsdfFlags, Lobe, TransportMode};
 use ppm_core::sampling::{cosine_hemisphere, uniform_sphere, Rng};
 use std::f32::consts::PI;
 
@@ -46,8 +47,8 @@ fn incident_directions() -> Vec<Vec3> {
 fn known_albedo(bsdf: &Bsdf, wo: Vec3) -> Option<Vec3> {
     match bsdf {
         Bsdf::Diffuse(d) => Some(d.albedo),
-        Bsdf::Phong(p) if wo.z.abs() == 1.0 => Some(p.diffuse + p.specular),
-        _ => None,
+        Bsdf::Phong(p) => (wo.z.abs() == 1.0).then_some(p.diffuse + p.specular),
+        Bsdf::Mirror(_) | Bsdf::Glass(_) => None,
     }
 }
 
@@ -297,8 +298,159 @@ fn check_grazing(name: &str, bsdf: &Bsdf) {
     }
 }
 
+/// The flag a sampled lobe must find among the BSDF's flags.
+fn lobe_flag(lobe: Lobe) -> BsdfFlags {
+    match lobe {
+        Lobe::Diffuse => BsdfFlags::DIFFUSE,
+        Lobe::Glossy => BsdfFlags::GLOSSY,
+        Lobe::Specular => BsdfFlags::SPECULAR,
+    }
+}
+
+/// The lobe decomposition agrees with the whole BSDF (every model, delta ones included):
+/// - what `sample` returns is among the flags: its lobe kind, and reflection or transmission
+///   by the side `wi` leaves on; in both transport modes;
+/// - the diffuse part exists exactly when the flags say DIFFUSE and is a diffuse reflection
+///   with no other lobe; the non-diffuse part exists exactly when they say GLOSSY or SPECULAR,
+///   has no diffuse lobe and never samples one; the parts' kinds together are the whole's;
+/// - eval(whole) = eval(diffuse part) + eval(non-diffuse part) on random and sampled pairs;
+/// - the directional albedo (mean sample weight, delta lobes included) of the whole is the sum
+///   of the parts' within noise (5 standard errors), per incident direction;
+/// - a non-delta non-diffuse part is a BSDF of its own: its samples agree with its eval and
+///   pdf ([`check_consistency`]).
+fn check_decomposition(name: &str, bsdf: &Bsdf) {
+    let flags = bsdf.flags();
+    let diffuse = bsdf.diffuse_part().map(Bsdf::Diffuse);
+    let non_diffuse = bsdf.non_diffuse_part();
+    let kinds = BsdfFlags::DIFFUSE | BsdfFlags::GLOSSY | BsdfFlags::SPECULAR;
+    assert_eq!(
+        diffuse.is_some(),
+        flags.contains(BsdfFlags::DIFFUSE),
+        "{name}: diffuse part {diffuse:?} but flags {flags:?}"
+    );
+    assert_eq!(
+        non_diffuse.is_some(),
+        flags.intersects(BsdfFlags::GLOSSY | BsdfFlags::SPECULAR),
+        "{name}: non-diffuse part {non_diffuse:?} but flags {flags:?}"
+    );
+    let mut part_kinds = BsdfFlags::NONE;
+    if let Some(d) = &diffuse {
+        assert_eq!(
+            d.flags(),
+            BsdfFlags::DIFFUSE | BsdfFlags::REFLECTION,
+            "{name}: diffuse part"
+        );
+        part_kinds |= BsdfFlags::DIFFUSE;
+    }
+    if let Some(nd) = &non_diffuse {
+        let f = nd.flags();
+        assert!(
+            !f.contains(BsdfFlags::DIFFUSE) && f.intersects(kinds),
+            "{name}: non-diffuse part has flags {f:?}"
+        );
+        for k in [BsdfFlags::GLOSSY, BsdfFlags::SPECULAR] {
+            if f.contains(k) {
+                part_kinds |= k;
+            }
+        }
+        if !nd.is_delta() {
+            check_consistency(&format!("{name} (non-diffuse part)"), nd);
+        }
+    }
+    for k in [BsdfFlags::DIFFUSE, BsdfFlags::GLOSSY, BsdfFlags::SPECULAR] {
+        assert_eq!(
+            flags.contains(k),
+            part_kinds.contains(k),
+            "{name}: the parts' kinds {part_kinds:?} are not the whole's {flags:?}"
+        );
+    }
+    let eval_part = |part: &Option<Bsdf>, wo: Vec3, wi: Vec3| {
+        part.as_ref()
+            .map_or(Vec3::ZERO, |b| b.eval(wo, wi, RADIANCE))
+    };
+    let sample_part = |part: &Option<Bsdf>, wo: Vec3, rng: &mut Rng, mode: TransportMode| {
+        let (u_lobe, u) = (rng.uniform(), rng.uniform2());
+        part.as_ref().and_then(|b| b.sample(wo, u_lobe, u, mode))
+    };
+
+    let mut rng = Rng::new(seed(name), 5, 5);
+    for (k, wo) in incident_directions().into_iter().enumerate() {
+        let mut albedo = [[Stats::default(); 3]; 3];
+        for _ in 0..50_000 {
+            for mode in [RADIANCE, IMPORTANCE] {
+                let (u_lobe, u) = (rng.uniform(), rng.uniform2());
+                if let Some(s) = bsdf.sample(wo, u_lobe, u, mode) {
+                    let side = if s.wi.z * wo.z > 0.0 {
+                        BsdfFlags::REFLECTION
+                    } else {
+                        BsdfFlags::TRANSMISSION
+                    };
+                    assert!(
+                        flags.contains(lobe_flag(s.lobe) | side),
+                        "{name}: wo {wo}: sampled {:?} {side:?} but flags {flags:?}",
+                        s.lobe
+                    );
+                    let wi = s.wi;
+                    let sum = eval_part(&diffuse, wo, wi) + eval_part(&non_diffuse, wo, wi);
+                    let whole = bsdf.eval(wo, wi, RADIANCE);
+                    assert!(
+                        close3(whole, sum, 1e-5),
+                        "{name}: wo {wo} wi {wi}: eval {whole} != parts' sum {sum}"
+                    );
+                }
+                if let Some(s) = sample_part(&diffuse, wo, &mut rng, mode) {
+                    assert_eq!(s.lobe, Lobe::Diffuse, "{name}: diffuse part");
+                }
+                if let Some(s) = sample_part(&non_diffuse, wo, &mut rng, mode) {
+                    assert_ne!(s.lobe, Lobe::Diffuse, "{name}: non-diffuse part");
+                    assert!(
+                        non_diffuse.unwrap().flags().contains(lobe_flag(s.lobe)),
+                        "{name}: non-diffuse part sampled {:?}",
+                        s.lobe
+                    );
+                }
+            }
+            let wi = uniform_sphere(rng.uniform2());
+            let sum = eval_part(&diffuse, wo, wi) + eval_part(&non_diffuse, wo, wi);
+            let whole = bsdf.eval(wo, wi, RADIANCE);
+            assert!(
+                close3(whole, sum, 1e-5),
+                "{name}: wo {wo} wi {wi}: eval {whole} != parts' sum {sum}"
+            );
+            let whole = {
+                let (u_lobe, u) = (rng.uniform(), rng.uniform2());
+                bsdf.sample(wo, u_lobe, u, RADIANCE)
+            };
+            let weights = [
+                whole,
+                sample_part(&diffuse, wo, &mut rng, RADIANCE),
+                sample_part(&non_diffuse, wo, &mut rng, RADIANCE),
+            ]
+            .map(|s| s.map_or(Vec3::ZERO, |s| s.weight));
+            for (stats, w) in albedo.iter_mut().zip(weights) {
+                for c in 0..3 {
+                    stats[c].push(w[c] as f64);
+                }
+            }
+        }
+        for c in 0..3 {
+            let [whole, d, nd] = albedo.map(|stats| stats[c]);
+            let se =
+                (whole.std_error().powi(2) + d.std_error().powi(2) + nd.std_error().powi(2)).sqrt();
+            assert!(
+                (whole.mean() - d.mean() - nd.mean()).abs() <= 5.0 * se + 1e-6,
+                "{name}: wo {wo} ({k}), channel {c}: albedo {:.5} but parts {:.5} + {:.5} \
+                 (+-{se:.1e})",
+                whole.mean(),
+                d.mean(),
+                nd.mean()
+            );
+        }
+    }
+}
+
 /// Registers the generic tests for each listed BSDF: `name: constructor,` makes a module
-/// `name` with five tests. The chi-square level is corrected for the number of models listed.
+/// `name` with six tests. The chi-square level is corrected for the number of models listed.
 macro_rules! bsdf_harness {
     ($($name:ident: $bsdf:expr,)*) => {
         /// Number of chi-square tests in this file (models x incident directions).
@@ -329,6 +481,10 @@ macro_rules! bsdf_harness {
                 fn finite_at_grazing_angles() {
                     check_grazing(stringify!($name), &bsdf());
                 }
+                #[test]
+                fn decomposition_agrees_with_the_whole() {
+                    check_decomposition(stringify!($name), &bsdf());
+                }
             }
         )*
     };
@@ -344,6 +500,19 @@ bsdf_harness! {
     phong_n0: Bsdf::phong(Vec3::splat(0.3), Vec3::splat(0.5), 0.0),
     phong_glossy_only: Bsdf::phong(Vec3::ZERO, Vec3::new(0.9, 0.7, 1.0), 50.0),
     phong_diffuse_only: Bsdf::phong(Vec3::splat(0.7), Vec3::ZERO, 20.0),
+}
+
+/// The lobe decomposition of the delta models (the rest of their tests are in
+/// `bsdf_specular.rs`), and of a black phong, which has no lobe at all.
+#[test]
+fn delta_models_decompose_into_their_traced_part() {
+    check_decomposition("mirror", &Bsdf::mirror(Vec3::new(0.9, 0.8, 0.7)));
+    for ior in IORS {
+        check_decomposition("glass", &Bsdf::glass(ior, Vec3::new(0.9, 0.8, 0.7)));
+    }
+    let black = Bsdf::phong(Vec3::ZERO, Vec3::ZERO, 10.0);
+    assert!(black.flags().is_empty() && !black.is_delta());
+    check_decomposition("black phong", &black);
 }
 
 /// Grazing angles for the delta models too, and the glass at its critical angle from inside.

@@ -1,6 +1,6 @@
 //! Lambertian reflection.
 
-use super::{BsdfSample, Lobe};
+use super::{BsdfFlags, BsdfSample, Lobe};
 use crate::sampling::cosine_hemisphere;
 use glam::{Vec2, Vec3};
 use std::f32::consts::FRAC_1_PI;
@@ -13,6 +13,12 @@ pub struct Diffuse {
 }
 
 impl Diffuse {
+    /// One diffuse reflection lobe (even when black: photons are still stored on it).
+    #[inline]
+    pub fn flags(&self) -> BsdfFlags {
+        BsdfFlags::DIFFUSE | BsdfFlags::REFLECTION
+    }
+
     /// f(wo, wi) = albedo / pi when both directions are on the same side, else 0.
     #[inline]
     pub fn eval(&self, wo: Vec3, wi: Vec3) -> Vec3 {

@@ -1,6 +1,6 @@
 //! Smooth dielectric: Fresnel-weighted mirror reflection and refraction.
 
-use super::{fresnel_dielectric, reflect, BsdfSample, Lobe, TransportMode};
+use super::{fresnel_dielectric, reflect, BsdfFlags, BsdfSample, Lobe, TransportMode};
 use glam::Vec3;
 
 /// A smooth dielectric interface between vacuum (index 1, the side `z > 0`) and a medium of
@@ -24,6 +24,12 @@ pub struct Glass {
 }
 
 impl Glass {
+    /// Specular reflection and specular transmission.
+    #[inline]
+    pub fn flags(&self) -> BsdfFlags {
+        BsdfFlags::SPECULAR | BsdfFlags::REFLECTION | BsdfFlags::TRANSMISSION
+    }
+
     /// Chooses reflection with probability F (`u_lobe < F`), refraction otherwise.
     /// `wo.z > 0` means `wo` is outside, in vacuum.
     #[inline]

@@ -1,6 +1,6 @@
 //! Perfect specular reflection.
 
-use super::{reflect, BsdfSample, Lobe};
+use super::{reflect, BsdfFlags, BsdfSample, Lobe};
 use glam::Vec3;
 
 /// A perfect mirror whose reflectance is `color` (no Fresnel term: a conductor idealised).
@@ -14,6 +14,12 @@ pub struct Mirror {
 }
 
 impl Mirror {
+    /// One specular reflection lobe.
+    #[inline]
+    pub fn flags(&self) -> BsdfFlags {
+        BsdfFlags::SPECULAR | BsdfFlags::REFLECTION
+    }
+
     /// The reflected direction with weight `color` and discrete probability 1. Two-sided:
     /// `wi` is on `wo`'s side of the surface. `None` for `wo` in the tangent plane.
     #[inline]

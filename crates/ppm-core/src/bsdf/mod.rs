@@ -14,17 +14,24 @@
 //!   refraction differs: radiance is scaled by 1/eta^2 on camera paths, photons carry flux
 //!   unscaled. Shading-normal asymmetry on light paths is corrected by
 //!   [`shading_normal_correction`] (Veach 1997, sec. 5.3).
+//! - Lobes: [`Bsdf::flags`] says which kinds a model has ([`BsdfFlags`]), and the model splits
+//!   into its diffuse part ([`Bsdf::diffuse_part`], Lambertian: what photon mapping
+//!   density-estimates) and its non-diffuse part ([`Bsdf::non_diffuse_part`], the glossy and
+//!   specular lobes: what is traced). The two parts sum to the whole:
+//!   `eval = diffuse.eval + non_diffuse.eval`. Integrators ask these and never name a model.
 //! - diffuse, phong and mirror are two-sided: with `wo.z < 0` they act as if the surface were
 //!   flipped, so camera and light paths agree for any pair of directions. glass is one-sided
 //!   in the sense that `wo.z > 0` means outside (entering the medium of `ior`).
 
 mod diffuse;
+mod flags;
 mod fresnel;
 mod glass;
 mod mirror;
 mod phong;
 
 pub use diffuse::Diffuse;
+pub use flags::BsdfFlags;
 pub use fresnel::fresnel_dielectric;
 pub use glass::Glass;
 pub use mirror::Mirror;
@@ -132,11 +139,47 @@ impl Bsdf {
         }
     }
 
+    /// The kinds of lobes this BSDF has (see [`BsdfFlags`]); every lobe `sample` can return
+    /// is among them.
+    #[inline]
+    pub fn flags(&self) -> BsdfFlags {
+        match self {
+            Bsdf::Diffuse(b) => b.flags(),
+            Bsdf::Mirror(b) => b.flags(),
+            Bsdf::Glass(b) => b.flags(),
+            Bsdf::Phong(b) => b.flags(),
+        }
+    }
+
+    /// The Lambertian part of the BSDF, `None` if it has none: what photon mapping
+    /// density-estimates (f = albedo / pi leaves the photon sum). With
+    /// [`Bsdf::non_diffuse_part`] it sums to the whole.
+    #[inline]
+    pub fn diffuse_part(&self) -> Option<Diffuse> {
+        match self {
+            Bsdf::Diffuse(b) => Some(*b),
+            Bsdf::Mirror(_) | Bsdf::Glass(_) => None,
+            Bsdf::Phong(b) => b.diffuse_part(),
+        }
+    }
+
+    /// The glossy and specular lobes, `None` if there are none: what photon mapping traces
+    /// rather than density-estimates (assignment 6.4). A BSDF of its own: sampling it samples
+    /// only those lobes, and its pdf is that of its own sampling.
+    #[inline]
+    pub fn non_diffuse_part(&self) -> Option<Bsdf> {
+        match self {
+            Bsdf::Diffuse(_) => None,
+            Bsdf::Mirror(_) | Bsdf::Glass(_) => Some(*self),
+            Bsdf::Phong(b) => b.glossy_part().map(Bsdf::Phong),
+        }
+    }
+
     /// True if every lobe is a delta (mirror, glass): no photons are stored and no light is
     /// sampled at such a vertex.
     #[inline]
     pub fn is_delta(&self) -> bool {
-        matches!(self, Bsdf::Mirror(_) | Bsdf::Glass(_))
+        self.flags().is_specular_only()
     }
 }
 

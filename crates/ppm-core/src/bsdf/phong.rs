@@ -1,6 +1,6 @@
 //! Lambertian plus the normalized modified Phong lobe (Lafortune & Willems 1994).
 
-use super::{luminance, reflect, BsdfSample, Lobe};
+use super::{luminance, reflect, BsdfFlags, BsdfSample, Diffuse, Lobe};
 use crate::sampling::{cosine_hemisphere, Frame};
 use glam::{Vec2, Vec3};
 use std::f32::consts::{FRAC_1_PI, PI};
@@ -10,8 +10,8 @@ use std::f32::consts::{FRAC_1_PI, PI};
 /// the glossy albedo exactly `specular` at normal incidence and smaller elsewhere, so
 /// `diffuse + specular <= 1` conserves energy. Two-sided like [`super::Diffuse`].
 ///
-/// Either coefficient may be zero (the photon mapper builds a glossy-only copy with
-/// `diffuse = 0`); the lobe is then never sampled.
+/// Either coefficient may be zero (the glossy part, [`Phong::glossy_part`], is a copy with
+/// `diffuse = 0`); the lobe is then never sampled and not among the flags.
 #[derive(Clone, Copy, Debug)]
 pub struct Phong {
     /// Lambertian albedo.
@@ -30,6 +30,37 @@ impl Phong {
             specular,
             exponent,
         }
+    }
+
+    /// A diffuse lobe where `diffuse` is non-zero, a glossy one where `specular` is; both
+    /// reflect.
+    #[inline]
+    pub fn flags(&self) -> BsdfFlags {
+        let mut flags = BsdfFlags::NONE;
+        if self.diffuse.max_element() > 0.0 {
+            flags |= BsdfFlags::DIFFUSE | BsdfFlags::REFLECTION;
+        }
+        if self.specular.max_element() > 0.0 {
+            flags |= BsdfFlags::GLOSSY | BsdfFlags::REFLECTION;
+        }
+        flags
+    }
+
+    /// The Lambertian lobe `diffuse / pi`, if `diffuse` is non-zero.
+    #[inline]
+    pub fn diffuse_part(&self) -> Option<Diffuse> {
+        (self.diffuse.max_element() > 0.0).then_some(Diffuse {
+            albedo: self.diffuse,
+        })
+    }
+
+    /// The glossy lobe alone (this model with `diffuse = 0`), if `specular` is non-zero.
+    #[inline]
+    pub fn glossy_part(&self) -> Option<Phong> {
+        (self.specular.max_element() > 0.0).then_some(Phong {
+            diffuse: Vec3::ZERO,
+            ..*self
+        })
     }
 
     /// Probability of sampling the glossy lobe, proportional to its albedo.

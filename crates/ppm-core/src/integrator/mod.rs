@@ -5,6 +5,7 @@
 //! iteration estimates) is a valid result, so a render can stop at any iteration.
 
 mod camera_path;
+mod camera_walk;
 mod direct;
 mod path;
 mod ppm;
@@ -13,6 +14,9 @@ mod shading;
 mod sppm;
 
 pub use camera_path::CameraPath;
+pub use camera_walk::{
+    walk, walk_to_visible_point, Next, RayCounters, Vertex, VisiblePoint, Walk, WalkParams,
+};
 pub use direct::{emission_mis_weight, estimate_direct};
 pub use path::PathTracer;
 pub use ppm::{
@@ -21,7 +25,7 @@ pub use ppm::{
 };
 pub use settings::{Algorithm, DirectMode, LightStrategy, RenderSettings, DEFAULT_PHOTONS};
 pub use shading::ShadingFrame;
-pub use sppm::{PixelStatistics, SppmRenderer, VisiblePoint};
+pub use sppm::{PixelStatistics, SplatPoint, SppmRenderer};
 
 use crate::film::Image;
 use crate::scene::Scene;

@@ -5,14 +5,13 @@
 
 mod tracer;
 
+use super::camera_walk::RayCounters;
 use super::{IterationStats, PassTimes, RenderSettings, Stopwatch};
 use crate::film::Film;
 use crate::sampling::Rng;
 use crate::scene::Scene;
 use glam::{Vec2, Vec3};
 use rayon::prelude::*;
-
-pub use tracer::PathCounters;
 
 /// Rows per parallel work item: small enough to balance two to many threads, large enough to
 /// amortise scheduling.
@@ -52,7 +51,7 @@ impl PathTracer {
             .par_chunks_mut(width * TILE_ROWS)
             .enumerate()
             .map(|(tile, rows)| {
-                let mut counters = PathCounters::default();
+                let mut counters = RayCounters::default();
                 for (i, out) in rows.iter_mut().enumerate() {
                     let pixel = tile * width * TILE_ROWS + i;
                     let mut rng = Rng::new(settings.seed, iteration, pixel as u64);
@@ -63,7 +62,7 @@ impl PathTracer {
                 }
                 counters
             })
-            .reduce(PathCounters::default, PathCounters::merge);
+            .reduce(RayCounters::default, RayCounters::merge);
         let eye = clock.lap();
         let before = self.film.rejected();
         self.film.add_iteration(&self.estimates);

@@ -1,11 +1,10 @@
 //! The eye pass (assignment parts 6.2 and 6.4): camera paths through specular chains to a
 //! diffuse point, where the photon map gives the reflected radiance.
 
-use crate::bsdf::{Bsdf, Phong};
+use crate::bsdf::Bsdf;
 use crate::geometry::Hit;
-use crate::integrator::direct::estimate_direct;
-use crate::integrator::shading::ShadingFrame;
-use crate::integrator::{CameraPath, DirectMode, LightStrategy, RenderSettings};
+use crate::integrator::camera_walk::{walk, RayCounters, WalkParams};
+use crate::integrator::{DirectMode, LightStrategy, RenderSettings};
 use crate::photon::{HashGrid, Kernel};
 use crate::sampling::Rng;
 use crate::scene::Scene;
@@ -21,13 +20,6 @@ pub struct GatherContext<'a> {
     pub radius: f32,
     /// 1 / (number of light paths of this iteration).
     pub inv_paths: f32,
-}
-
-/// Rays traced by one worker.
-#[derive(Clone, Copy, Debug, Default)]
-pub struct EyeCounters {
-    pub rays: u64,
-    pub shadow_rays: u64,
 }
 
 /// The photon density estimate of the radiance reflected toward `wo` at `hit` by a diffuse
@@ -54,18 +46,16 @@ pub fn density_estimate(ctx: &GatherContext<'_>, hit: &Hit, wo: Vec3, albedo: Ve
 
 /// The eye path through pixel `pixel` of iteration `iteration`; returns its radiance estimate.
 ///
-/// - Mirror and glass: the path follows the sampled delta lobe (radiance mode).
-/// - Diffuse: the density estimate of the photon map, and with `--direct sampled` one light
-///   sample (no MIS: this vertex never samples its BSDF, so light sampling is the only
-///   strategy for direct light); the path ends.
-/// - Phong (6.4): the glossy lobe is never density-estimated. Its direct light comes from one
-///   light sample, and the path continues by sampling the glossy lobe alone; emission that
-///   this bounce finds is weighted by MIS (power heuristic) against the light sample, so
-///   nothing is counted twice. The diffuse lobe, if any, is estimated like a diffuse surface
-///   (photons, plus a light sample with `--direct sampled`).
-/// - Emission seen directly or through specular chains counts fully.
-/// - Russian roulette on the throughput after `rr_depth` bounces.
-#[allow(clippy::too_many_arguments)]
+/// The walk ([`walk`]) follows delta lobes, picks up emission seen directly or through
+/// specular chains fully (MIS-weighted after a glossy bounce) and applies Russian roulette
+/// after `rr_depth` bounces. At each vertex the BSDF is split ([`Bsdf::diffuse_part`],
+/// [`Bsdf::non_diffuse_part`]):
+/// - the diffuse part gets the photon density estimate, and with `--direct sampled` one light
+///   sample (no MIS: this part is never sampled by the path, so light sampling is the only
+///   strategy for its direct light);
+/// - the non-diffuse part is traced (6.4, [`crate::integrator::Walk::trace_non_diffuse`]): a glossy part gets a
+///   light sample MIS-weighted against the BSDF sample that continues the path; a delta part
+///   only continues. Without a non-diffuse part the path ends.
 pub fn trace_eye_path(
     scene: &Scene,
     settings: &RenderSettings,
@@ -73,75 +63,24 @@ pub fn trace_eye_path(
     iteration: u64,
     pixel: usize,
     width: usize,
-    counters: &mut EyeCounters,
+    counters: &mut RayCounters,
 ) -> Vec3 {
     let mut rng = Rng::new(settings.seed ^ EYE_STREAM, iteration, pixel as u64);
     let film = Vec2::new((pixel % width) as f32, (pixel / width) as f32) + rng.uniform2();
-    let mut ray = scene.camera.generate_ray(film);
+    let ray = scene.camera.generate_ray(film);
     let sampled_direct = settings.direct == DirectMode::Sampled;
-    let mut l = Vec3::ZERO;
-    let mut path = CameraPath::new(ray.origin);
-    for depth in 0..=settings.max_depth {
-        counters.rays += 1;
-        let Some(hit) = scene.intersect(&ray) else {
-            break;
-        };
-        let material = scene.material(&hit);
-        let wo = -ray.dir;
-        l += path.throughput * path.emission(scene, &hit, wo, LightStrategy::Mis);
-        if depth == settings.max_depth {
-            break;
+    let params = WalkParams {
+        max_depth: settings.max_depth,
+        rr_depth: settings.rr_depth,
+        emission: LightStrategy::Mis,
+    };
+    walk(scene, params, ray, &mut rng, counters, |w, v, rng| {
+        if let Some(diffuse) = v.bsdf.diffuse_part() {
+            w.add(density_estimate(ctx, v.hit, v.wo, diffuse.albedo));
+            if sampled_direct {
+                w.add_direct(scene, v, &Bsdf::Diffuse(diffuse), rng, false);
+            }
         }
-        let sf = ShadingFrame::new(&hit, wo);
-        // The lobe the path continues with, if any.
-        let continue_with = match &material.bsdf {
-            Bsdf::Diffuse(d) => {
-                l += path.throughput * density_estimate(ctx, &hit, wo, d.albedo);
-                if sampled_direct {
-                    let (ld, traced) =
-                        estimate_direct(scene, &hit, &sf, wo, &material.bsdf, &mut rng, false);
-                    counters.shadow_rays += traced as u64;
-                    l += path.throughput * ld;
-                }
-                break;
-            }
-            Bsdf::Phong(p) => {
-                if p.diffuse.max_element() > 0.0 {
-                    let diffuse = Bsdf::diffuse(p.diffuse);
-                    l += path.throughput * density_estimate(ctx, &hit, wo, p.diffuse);
-                    if sampled_direct {
-                        let (ld, traced) =
-                            estimate_direct(scene, &hit, &sf, wo, &diffuse, &mut rng, false);
-                        counters.shadow_rays += traced as u64;
-                        l += path.throughput * ld;
-                    }
-                }
-                if p.specular.max_element() <= 0.0 {
-                    break;
-                }
-                let glossy = Bsdf::Phong(Phong {
-                    diffuse: Vec3::ZERO,
-                    ..*p
-                });
-                let (ld, traced) = estimate_direct(scene, &hit, &sf, wo, &glossy, &mut rng, true);
-                counters.shadow_rays += traced as u64;
-                l += path.throughput * ld;
-                glossy
-            }
-            delta @ (Bsdf::Mirror(_) | Bsdf::Glass(_)) => *delta,
-        };
-        let Some(next) = path.scatter(
-            &continue_with,
-            &sf,
-            &hit,
-            wo,
-            &mut rng,
-            depth,
-            settings.rr_depth,
-        ) else {
-            break;
-        };
-        ray = next;
-    }
-    l
+        w.trace_non_diffuse(scene, v, rng)
+    })
 }

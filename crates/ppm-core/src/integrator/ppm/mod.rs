@@ -17,11 +17,12 @@ pub use photon_pass::{
 };
 pub use radius::RadiusSchedule;
 
+use super::camera_walk::RayCounters;
 use super::{IterationStats, PassTimes, RenderSettings, Stopwatch};
 use crate::film::Film;
 use crate::photon::{HashGrid, Kernel, PhotonBuffer};
 use crate::scene::Scene;
-use eye_pass::{trace_eye_path, EyeCounters};
+use eye_pass::trace_eye_path;
 use glam::Vec3;
 use rayon::prelude::*;
 
@@ -123,7 +124,7 @@ impl PpmRenderer {
             .par_chunks_mut(PIXELS_PER_TASK)
             .enumerate()
             .map(|(task, pixels)| {
-                let mut counters = EyeCounters::default();
+                let mut counters = RayCounters::default();
                 for (i, out) in pixels.iter_mut().enumerate() {
                     let pixel = task * PIXELS_PER_TASK + i;
                     *out = trace_eye_path(
@@ -138,10 +139,7 @@ impl PpmRenderer {
                 }
                 counters
             })
-            .reduce(EyeCounters::default, |a, b| EyeCounters {
-                rays: a.rays + b.rays,
-                shadow_rays: a.shadow_rays + b.shadow_rays,
-            });
+            .reduce(RayCounters::default, RayCounters::merge);
         passes.eye = clock.lap();
 
         let before = self.film.rejected();

@@ -1,6 +1,6 @@
 //! The photon pass (assignment part 6.1): light paths that leave photons on non-specular surfaces.
 
-use crate::bsdf::{shading_normal_correction, Bsdf, TransportMode};
+use crate::bsdf::{shading_normal_correction, Bsdf, BsdfFlags, TransportMode};
 use crate::geometry::Ray;
 use crate::integrator::shading::ShadingFrame;
 use crate::integrator::{DirectMode, RenderSettings};
@@ -43,15 +43,12 @@ impl PhotonSink for PhotonWriter<'_> {
     }
 }
 
-/// True where photons are stored: surfaces with a diffuse lobe. Never on mirror or glass; on
-/// a phong surface photons serve its diffuse lobe only (the glossy lobe is traced, 6.4).
+/// True where photons are stored: surfaces whose BSDF has a diffuse part, which the eye pass
+/// density-estimates. Never where every lobe is glossy or specular: those lobes are traced
+/// (6.4), and photons there would be counted by no estimate.
 #[inline]
 pub fn stores_photons(bsdf: &Bsdf) -> bool {
-    match bsdf {
-        Bsdf::Diffuse(_) => true,
-        Bsdf::Phong(p) => p.diffuse.max_element() > 0.0,
-        Bsdf::Mirror(_) | Bsdf::Glass(_) => false,
-    }
+    bsdf.flags().contains(BsdfFlags::DIFFUSE)
 }
 
 /// Traces light path `path` of iteration `iteration` and deposits its photons in `out`.

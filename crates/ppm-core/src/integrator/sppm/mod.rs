@@ -1,8 +1,8 @@
 //! Stochastic progressive photon mapping (Hachisuka and Jensen 2009), organised as pbrt-v4's
 //! SPPMIntegrator: every iteration
 //!
-//! 1. traces one jittered camera path per pixel to a visible point ([`visible_point`]),
-//!    collecting emission and sampled direct light on the way (radiance transport);
+//! 1. traces one jittered camera path per pixel to a visible point ([`visible_point`], on
+//!    the shared camera-path walk), collecting emission and sampled direct light on the way (radiance transport);
 //! 2. builds a hash grid over the visible points' discs ([`grid`]);
 //! 3. traces the iteration's light paths (importance transport, the same walk as `ppm`) and
 //!    splats each photon into the visible points whose disc contains it ([`splat`]); photons
@@ -21,8 +21,9 @@ mod visible_point;
 
 pub use grid::VisiblePointGrid;
 pub use pixel::{Accumulator, FixedPoint, PixelStatistics};
-pub use visible_point::{trace_camera_path, VisiblePoint};
+pub use visible_point::{trace_camera_path, SplatPoint};
 
+use super::camera_walk::RayCounters;
 use super::{
     trace_light_path, IterationStats, PassTimes, PhotonCounters, RenderSettings, Stopwatch,
     MAX_LIGHT_PATHS,
@@ -32,7 +33,6 @@ use crate::scene::Scene;
 use glam::Vec3;
 use rayon::prelude::*;
 use splat::{SplatCounters, Splatter};
-use visible_point::CameraCounters;
 
 /// Light paths per parallel work item of the photon pass.
 const PATHS_PER_TASK: u32 = 512;
@@ -50,7 +50,7 @@ pub struct SppmRenderer {
     /// This iteration's camera-path radiance per pixel, before it joins `direct`.
     direct_estimates: Vec<Vec3>,
     statistics: Vec<PixelStatistics>,
-    points: Vec<VisiblePoint>,
+    points: Vec<SplatPoint>,
     accumulators: Vec<Accumulator>,
     grid: VisiblePointGrid,
     /// Light paths traced over all iterations (N_e).
@@ -73,7 +73,7 @@ impl SppmRenderer {
             direct: Film::new(w, h),
             direct_estimates: vec![Vec3::ZERO; pixels],
             statistics: vec![PixelStatistics::new(settings.radius); pixels],
-            points: vec![VisiblePoint::default(); pixels],
+            points: vec![SplatPoint::default(); pixels],
             accumulators: (0..pixels).map(|_| Accumulator::default()).collect(),
             grid: VisiblePointGrid::new(),
             emitted: 0,
@@ -154,7 +154,7 @@ impl SppmRenderer {
             .zip(self.points.par_chunks_mut(PIXELS_PER_TASK))
             .enumerate()
             .map(|(task, (ld, points))| {
-                let mut counters = CameraCounters::default();
+                let mut counters = RayCounters::default();
                 for (i, (ld, vp)) in ld.iter_mut().zip(points).enumerate() {
                     let pixel = task * PIXELS_PER_TASK + i;
                     let (l, mut point) =
@@ -165,10 +165,7 @@ impl SppmRenderer {
                 }
                 counters
             })
-            .reduce(CameraCounters::default, |a, b| CameraCounters {
-                rays: a.rays + b.rays,
-                shadow_rays: a.shadow_rays + b.shadow_rays,
-            });
+            .reduce(RayCounters::default, RayCounters::merge);
         passes.eye = clock.lap();
 
         // 2. The grid over the visible points.
@@ -266,7 +263,7 @@ impl SppmRenderer {
     /// accumulators, films, grid), none per photon.
     pub fn memory_bytes(&self) -> usize {
         let per_pixel = std::mem::size_of::<PixelStatistics>()
-            + std::mem::size_of::<VisiblePoint>()
+            + std::mem::size_of::<SplatPoint>()
             + std::mem::size_of::<Accumulator>()
             + 2 * std::mem::size_of::<Vec3>()
             + 3 * std::mem::size_of::<f64>();

@@ -3,7 +3,7 @@
 
 use super::grid::VisiblePointGrid;
 use super::pixel::{Accumulator, FixedPoint};
-use super::visible_point::VisiblePoint;
+use super::visible_point::SplatPoint;
 use crate::integrator::PhotonSink;
 use glam::Vec3;
 
@@ -20,7 +20,7 @@ pub struct SplatCounters {
 
 /// A [`PhotonSink`] that adds each photon to every visible point whose disc contains it.
 ///
-/// For visible point x with weight beta f (see [`VisiblePoint::weight`]) and radius R, the
+/// For visible point x with weight beta f (see [`SplatPoint::weight`]) and radius R, the
 /// photon p at x_p with flux Phi_p and incoming direction wi_p contributes
 ///   Phi += beta f Phi_p,  M += 1,   if |x - x_p| <= R and wi_p . n_view > 0,
 /// the uniform-kernel (disc) density estimate of Hachisuka et al. 2008 that the statistics
@@ -28,7 +28,7 @@ pub struct SplatCounters {
 /// the visible point's surface lit the back of a thin wall and are ignored, as in `ppm`.
 pub struct Splatter<'a> {
     pub grid: &'a VisiblePointGrid,
-    pub points: &'a [VisiblePoint],
+    pub points: &'a [SplatPoint],
     pub accumulators: &'a [Accumulator],
     pub code: &'a FixedPoint,
     pub counters: SplatCounters,

@@ -1,10 +1,9 @@
 //! The camera pass of SPPM: one jittered camera path per pixel, through specular and glossy
 //! bounces, to the visible point where the photons of the iteration will be gathered.
 
-use crate::bsdf::{Bsdf, Phong};
-use crate::integrator::direct::estimate_direct;
-use crate::integrator::shading::ShadingFrame;
-use crate::integrator::{CameraPath, DirectMode, LightStrategy, RenderSettings};
+use crate::bsdf::Bsdf;
+use crate::integrator::camera_walk::{walk, Next, RayCounters, WalkParams};
+use crate::integrator::{DirectMode, LightStrategy, RenderSettings};
 use crate::sampling::Rng;
 use crate::scene::Scene;
 use glam::{Vec2, Vec3};
@@ -12,10 +11,11 @@ use glam::{Vec2, Vec3};
 /// Random streams of SPPM camera paths are kept apart from every other stream by this salt.
 pub const SPPM_EYE_STREAM: u64 = 0x7370_706d_5f65_7965;
 
-/// Where a pixel's camera path stopped in this iteration, and what a photon arriving there
-/// is worth to the pixel.
+/// A pixel's visible point of this iteration as the photon pass sees it: where its camera
+/// path stopped (see [`crate::integrator::VisiblePoint`]) and what a photon arriving there is
+/// worth to the pixel. Compact: the photon pass reads one per candidate.
 #[derive(Clone, Copy, Debug, Default)]
-pub struct VisiblePoint {
+pub struct SplatPoint {
     /// Position (world space, camera-relative like the scene).
     pub p: Vec3,
     /// The geometric normal on the camera's side: photons from the other side are ignored.
@@ -30,7 +30,7 @@ pub struct VisiblePoint {
     pub found: bool,
 }
 
-impl VisiblePoint {
+impl SplatPoint {
     /// The disc the grid indexes, if any.
     #[inline]
     pub fn disc(&self) -> Option<(Vec3, f32)> {
@@ -38,121 +38,74 @@ impl VisiblePoint {
     }
 }
 
-/// Rays traced by one worker of the camera pass.
-#[derive(Clone, Copy, Debug, Default)]
-pub struct CameraCounters {
-    pub rays: u64,
-    pub shadow_rays: u64,
-}
+/// Probability of stopping at the diffuse part of a vertex whose BSDF also has a non-diffuse
+/// part (a phong surface); the walk continues through the non-diffuse part otherwise. Any
+/// value in (0, 1) is unbiased; one half keeps the rule independent of the BSDF model.
+pub const DIFFUSE_PART_PROBABILITY: f32 = 0.5;
 
-/// Probability of stopping at the diffuse lobe of a phong surface (continuing with the glossy
-/// lobe otherwise): in proportion to the lobes' largest albedo channels.
-#[inline]
-fn diffuse_lobe_probability(p: &Phong) -> f32 {
-    let d = p.diffuse.max_element().max(0.0);
-    let s = p.specular.max_element().max(0.0);
-    if d + s > 0.0 {
-        d / (d + s)
-    } else {
-        0.0
-    }
-}
-
-/// Traces the camera path of `pixel` in `iteration`. Returns the radiance it found on the way
-/// (emission, sampled direct light) and its visible point, whose `r2` the caller sets.
+/// Traces the camera path of `pixel` in `iteration` on the shared camera-path walk
+/// ([`walk`]). Returns the radiance it found on the way (emission, sampled direct light) and
+/// its visible point, whose `r2` the caller sets.
 ///
-/// - Mirror and glass: the path follows the sampled delta lobe (radiance mode).
-/// - Diffuse: the visible point, with weight beta albedo / pi; with `--direct sampled` one
-///   light sample there (photons then start at their second bounce). The path ends.
-/// - Phong: one lobe is chosen, the diffuse one with probability q (see
-///   [`diffuse_lobe_probability`]), and the throughput divided by the choice's probability.
-///   Diffuse: as above. Glossy: direct light by one light sample weighted by MIS against the
-///   continuation, then the path continues by sampling the glossy lobe alone (the glossy
-///   lobe is never density-estimated, as in the `ppm` eye pass, assignment part 6.4).
-/// - Emission seen directly or through delta chains counts fully, after a glossy bounce with
-///   its MIS weight.
-/// - Russian roulette on the throughput after `rr_depth` bounces.
+/// The walk follows delta lobes, picks up emission (fully at the camera and after a delta
+/// bounce, MIS-weighted after a glossy one) and applies Russian roulette. At each vertex:
+/// - no diffuse part (mirror, glass, a purely glossy phong): the non-diffuse part is traced
+///   ([`crate::integrator::Walk::trace_non_diffuse`]: a glossy part gets one light sample with MIS, assignment
+///   6.4);
+/// - a diffuse part only: the visible point, weight beta albedo / pi; with `--direct sampled`
+///   one light sample of the diffuse part (photons then start at their second bounce);
+/// - both parts (phong): one is chosen, the diffuse part with probability
+///   q = [`DIFFUSE_PART_PROBABILITY`], and the throughput divided by the choice's
+///   probability (q or 1 - q), which keeps the estimator unbiased: one visible point per
+///   path, yet the glossy part is traced as in `ppm`, never density-estimated.
 pub fn trace_camera_path(
     scene: &Scene,
     settings: &RenderSettings,
     iteration: u64,
     pixel: usize,
     width: usize,
-    counters: &mut CameraCounters,
-) -> (Vec3, VisiblePoint) {
+    counters: &mut RayCounters,
+) -> (Vec3, SplatPoint) {
     let mut rng = Rng::new(settings.seed ^ SPPM_EYE_STREAM, iteration, pixel as u64);
     let film = Vec2::new((pixel % width) as f32, (pixel / width) as f32) + rng.uniform2();
-    let mut ray = scene.camera.generate_ray(film);
+    let ray = scene.camera.generate_ray(film);
     let sampled_direct = settings.direct == DirectMode::Sampled;
-    let mut l = Vec3::ZERO;
-    let mut path = CameraPath::new(ray.origin);
-    for depth in 0..=settings.max_depth {
-        counters.rays += 1;
-        let Some(hit) = scene.intersect(&ray) else {
-            break;
+    let params = WalkParams {
+        max_depth: settings.max_depth,
+        rr_depth: settings.rr_depth,
+        emission: LightStrategy::Mis,
+    };
+    let mut point = SplatPoint::default();
+    let l = walk(scene, params, ray, &mut rng, counters, |w, v, rng| {
+        let Some(diffuse) = v.bsdf.diffuse_part() else {
+            return w.trace_non_diffuse(scene, v, rng);
         };
-        let material = scene.material(&hit);
-        let wo = -ray.dir;
-        l += path.throughput * path.emission(scene, &hit, wo, LightStrategy::Mis);
-        if depth == settings.max_depth {
-            break;
+        let q = if v.bsdf.non_diffuse_part().is_some() {
+            DIFFUSE_PART_PROBABILITY
+        } else {
+            1.0
+        };
+        if q < 1.0 && rng.uniform() >= q {
+            w.path.throughput /= 1.0 - q;
+            return w.trace_non_diffuse(scene, v, rng);
         }
-        let sf = ShadingFrame::new(&hit, wo);
-        // The diffuse albedo to stop at (with the lobe choice's probability), or the lobe
-        // to continue with.
-        let (stop, continue_with) = match &material.bsdf {
-            Bsdf::Diffuse(d) => (Some((d.albedo, 1.0)), None),
-            Bsdf::Phong(p) => {
-                let q = diffuse_lobe_probability(p);
-                if q > 0.0 && rng.uniform() < q {
-                    (Some((p.diffuse, q)), None)
-                } else if q < 1.0 {
-                    path.throughput /= 1.0 - q;
-                    let glossy = Bsdf::Phong(Phong {
-                        diffuse: Vec3::ZERO,
-                        ..*p
-                    });
-                    let (ld, traced) =
-                        estimate_direct(scene, &hit, &sf, wo, &glossy, &mut rng, true);
-                    counters.shadow_rays += traced as u64;
-                    l += path.throughput * ld;
-                    (None, Some(glossy))
-                } else {
-                    (None, None)
-                }
-            }
-            delta @ (Bsdf::Mirror(_) | Bsdf::Glass(_)) => (None, Some(*delta)),
-        };
-        if let Some((albedo, q)) = stop {
-            let beta = path.throughput / q;
-            if sampled_direct {
-                let diffuse = Bsdf::diffuse(albedo);
-                let (ld, traced) = estimate_direct(scene, &hit, &sf, wo, &diffuse, &mut rng, false);
-                counters.shadow_rays += traced as u64;
-                l += beta * ld;
-            }
-            let n_view = if wo.dot(hit.ng) >= 0.0 {
-                hit.ng
-            } else {
-                -hit.ng
-            };
-            let vp = VisiblePoint {
-                p: hit.p,
-                n_view,
-                weight: beta * albedo * std::f32::consts::FRAC_1_PI,
-                r2: 0.0,
-                found: true,
-            };
-            return (l, vp);
+        w.path.throughput /= q;
+        if sampled_direct {
+            w.add_direct(scene, v, &Bsdf::Diffuse(diffuse), rng, false);
         }
-        let Some(bsdf) = continue_with else {
-            break;
+        let n_view = if v.wo.dot(v.hit.ng) >= 0.0 {
+            v.hit.ng
+        } else {
+            -v.hit.ng
         };
-        let Some(next) = path.scatter(&bsdf, &sf, &hit, wo, &mut rng, depth, settings.rr_depth)
-        else {
-            break;
+        point = SplatPoint {
+            p: v.hit.p,
+            n_view,
+            weight: w.path.throughput * diffuse.albedo * std::f32::consts::FRAC_1_PI,
+            r2: 0.0,
+            found: true,
         };
-        ray = next;
-    }
-    (l, VisiblePoint::default())
+        Next::Stop
+    });
+    (l, point)
 }
