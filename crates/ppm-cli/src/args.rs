@@ -92,7 +92,8 @@ pub struct SettingsArgs {
     /// Worker threads [default: all cores].
     #[arg(long, value_parser = clap::value_parser!(u64).range(1..=4096), allow_negative_numbers = true)]
     pub threads: Option<u64>,
-    /// Photon mapping: light paths per iteration.
+    /// Photon mapping: light paths per iteration [default: scene file, else 200000 for ppm
+    /// and one per pixel for sppm].
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..), allow_negative_numbers = true)]
     pub photons: Option<u32>,
     /// Photon mapping: initial gather radius in scene units [default: scene file, or 0.5%
@@ -153,6 +154,8 @@ pub enum AlgorithmArg {
     Pt,
     /// Progressive photon mapping.
     Ppm,
+    /// Stochastic progressive photon mapping (per-pixel radii; photons never stored).
+    Sppm,
 }
 
 impl AlgorithmArg {
@@ -160,6 +163,7 @@ impl AlgorithmArg {
         match self {
             AlgorithmArg::Pt => Algorithm::Path,
             AlgorithmArg::Ppm => Algorithm::Ppm,
+            AlgorithmArg::Sppm => Algorithm::Sppm,
         }
     }
 
@@ -168,6 +172,7 @@ impl AlgorithmArg {
         match self {
             AlgorithmArg::Pt => "pt",
             AlgorithmArg::Ppm => "ppm",
+            AlgorithmArg::Sppm => "sppm",
         }
     }
 }

@@ -108,7 +108,7 @@ pub fn render_settings(
     algorithm: AlgorithmArg,
     args: &SettingsArgs,
 ) -> RenderSettings {
-    let mut settings = RenderSettings::new(scene);
+    let mut settings = RenderSettings::for_algorithm(scene, algorithm.algorithm());
     apply_overrides(&mut settings, algorithm, args);
     settings
 }

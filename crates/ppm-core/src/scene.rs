@@ -13,8 +13,8 @@ use glam::{Vec2, Vec3};
 pub struct RenderDefaults {
     /// Longest light or eye path, in bounces.
     pub max_depth: u32,
-    /// Light paths per photon-mapping iteration.
-    pub photons: u32,
+    /// Light paths per photon-mapping iteration; `None` leaves it to the algorithm.
+    pub photons: Option<u32>,
     /// Initial gather radius in scene units; `None` derives it from the scene's size.
     pub radius: Option<f32>,
     /// Radius reduction parameter of progressive photon mapping.
@@ -25,7 +25,7 @@ impl Default for RenderDefaults {
     fn default() -> Self {
         RenderDefaults {
             max_depth: 32,
-            photons: 200_000,
+            photons: None,
             radius: None,
             alpha: 2.0 / 3.0,
         }

@@ -6,7 +6,7 @@ mod test_scenes;
 use ppm_core::integrator::{LightStrategy, PpmRenderer};
 use ppm_core::prelude::*;
 use test_scenes::{
-    cornell, cornell_builder, furnace, render_stats, z_scores, BoxContents, PixelStats,
+    assert_uniform_image, cornell, cornell_builder, furnace, render_stats, z_scores, BoxContents,
 };
 
 fn pt_settings(scene: &Scene) -> RenderSettings {
@@ -14,32 +14,6 @@ fn pt_settings(scene: &Scene) -> RenderSettings {
         algorithm: Algorithm::Path,
         ..RenderSettings::new(scene)
     }
-}
-
-/// Asserts that every pixel's mean is `expected` within `k` standard errors, and that the
-/// mean over the image is within `k` standard errors of the image mean (pixels independent).
-fn assert_uniform_image(stats: &PixelStats, expected: f64, k: f64, what: &str) {
-    let n = stats.pixels();
-    let mut sum_var = 0.0;
-    for i in 0..n {
-        for c in 0..3 {
-            let se = stats.var_of_mean(i, c).sqrt();
-            let d = stats.mean(i, c) - expected;
-            assert!(
-                d.abs() <= k * se + 1e-9,
-                "{what}: pixel {i} channel {c}: {} vs {expected} (se {se})",
-                stats.mean(i, c)
-            );
-            sum_var += stats.var_of_mean(i, c);
-        }
-    }
-    let se_image = (sum_var).sqrt() / (3 * n) as f64;
-    let d = stats.image_mean() - expected;
-    assert!(
-        d.abs() <= k * se_image,
-        "{what}: image mean {} vs {expected} (se {se_image})",
-        stats.image_mean()
-    );
 }
 
 #[test]

@@ -132,7 +132,7 @@ pub fn build(
             }
         }
         if let Some(p) = r.photons {
-            defaults.photons = p.0;
+            defaults.photons = Some(p.0);
         }
         if let Some(radius) = r.radius {
             defaults.radius = Some(radius.0);

@@ -492,7 +492,7 @@ fn optional_parts_have_documented_defaults() {
             b.defaults.radius,
             b.defaults.alpha
         ),
-        (7, 1234, Some(0.05), 0.5)
+        (7, Some(1234), Some(0.05), 0.5)
     );
 }
 

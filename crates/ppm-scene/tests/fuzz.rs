@@ -92,7 +92,8 @@ fn check_builder(b: &SceneBuilder) {
         );
     }
     let d = b.defaults;
-    assert!(d.max_depth >= 1 && d.photons >= 1 && d.alpha > 0.0 && d.alpha <= 1.0);
+    assert!(d.max_depth >= 1 && d.alpha > 0.0 && d.alpha <= 1.0);
+    assert!(d.photons.is_none_or(|p| p >= 1));
     assert!(d.radius.is_none_or(|r| r.is_finite() && r > 0.0));
 }
 

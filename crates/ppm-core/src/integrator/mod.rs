@@ -1,4 +1,5 @@
-//! Integrators: the path tracer and progressive photon mapping, behind one [`Renderer`].
+//! Integrators: the path tracer, progressive photon mapping and its stochastic variant, behind
+//! one [`Renderer`].
 //!
 //! A render is a sequence of iterations; after each one the image (the average of all
 //! iteration estimates) is a valid result, so a render can stop at any iteration.
@@ -11,6 +12,7 @@ mod path;
 mod ppm;
 mod settings;
 mod shading;
+mod sppm;
 
 pub use camera_path::CameraPath;
 pub use camera_walk::{
@@ -23,11 +25,14 @@ pub use memory::{
 };
 pub use path::PathTracer;
 pub use ppm::{
-    density_estimate, stores_photons, trace_light_path, GatherContext, PpmRenderer, RadiusSchedule,
-    MAX_LIGHT_PATHS,
+    density_estimate, stores_photons, trace_light_path, GatherContext, PhotonCounters, PhotonSink,
+    PpmRenderer, RadiusSchedule, MAX_LIGHT_PATHS,
 };
-pub use settings::{Algorithm, DirectMode, LightStrategy, RenderSettings, MAX_DEPTH};
+pub use settings::{
+    Algorithm, DirectMode, LightStrategy, RenderSettings, DEFAULT_PHOTONS, MAX_DEPTH,
+};
 pub use shading::ShadingFrame;
+pub use sppm::{PixelStatistics, SplatPoint, SppmRenderer};
 
 use crate::film::Image;
 use crate::scene::Scene;
@@ -103,6 +108,7 @@ pub enum Renderer {
     Path(PathTracer),
     /// Boxed: its photon buffer and grid make it several times the path tracer's size.
     Ppm(Box<PpmRenderer>),
+    Sppm(Box<SppmRenderer>),
 }
 
 impl Renderer {
@@ -111,6 +117,7 @@ impl Renderer {
         match settings.algorithm {
             Algorithm::Path => Renderer::Path(PathTracer::new(scene, settings.clone())),
             Algorithm::Ppm => Renderer::Ppm(Box::new(PpmRenderer::new(scene, settings.clone()))),
+            Algorithm::Sppm => Renderer::Sppm(Box::new(SppmRenderer::new(scene, settings.clone()))),
         }
     }
 
@@ -120,6 +127,7 @@ impl Renderer {
         match settings.algorithm {
             Algorithm::Path => PathTracer::memory_estimate(w, h, settings),
             Algorithm::Ppm => PpmRenderer::memory_estimate(w, h, settings),
+            Algorithm::Sppm => SppmRenderer::memory_estimate(w, h, settings),
         }
     }
 
@@ -128,6 +136,7 @@ impl Renderer {
         match self {
             Renderer::Path(r) => r.iterate(scene),
             Renderer::Ppm(r) => r.iterate(scene),
+            Renderer::Sppm(r) => r.iterate(scene),
         }
     }
 
@@ -144,6 +153,7 @@ impl Renderer {
         match self {
             Renderer::Path(r) => r.iterate_until(scene, stop),
             Renderer::Ppm(r) => r.iterate_until(scene, stop),
+            Renderer::Sppm(r) => r.iterate_until(scene, stop),
         }
     }
 
@@ -152,14 +162,17 @@ impl Renderer {
         match self {
             Renderer::Path(r) => r.film().image(),
             Renderer::Ppm(r) => r.film().image(),
+            Renderer::Sppm(r) => r.image(),
         }
     }
 
-    /// The per-pixel estimates of the last iteration alone.
+    /// The per-pixel estimates of the last iteration alone (for `sppm`, whose iterations
+    /// share per-pixel statistics, the current image).
     pub fn last_estimates(&self) -> &[glam::Vec3] {
         match self {
             Renderer::Path(r) => r.last_estimates(),
             Renderer::Ppm(r) => r.last_estimates(),
+            Renderer::Sppm(r) => r.last_estimates(),
         }
     }
 
@@ -168,6 +181,7 @@ impl Renderer {
         match self {
             Renderer::Path(r) => r.film().iterations(),
             Renderer::Ppm(r) => r.film().iterations(),
+            Renderer::Sppm(r) => r.iterations(),
         }
     }
 
@@ -176,6 +190,7 @@ impl Renderer {
         match self {
             Renderer::Path(r) => r.film().rejected(),
             Renderer::Ppm(r) => r.film().rejected(),
+            Renderer::Sppm(r) => r.rejected(),
         }
     }
 
@@ -185,14 +200,16 @@ impl Renderer {
         match self {
             Renderer::Path(r) => r.film().first_rejected(),
             Renderer::Ppm(r) => r.film().first_rejected(),
+            Renderer::Sppm(r) => r.first_rejected(),
         }
     }
 
-    /// Bytes of the render state's large buffers (film, photons, grid).
+    /// Bytes of the render state's large buffers (film, photons or visible points, grid).
     pub fn memory_bytes(&self) -> usize {
         match self {
             Renderer::Path(r) => r.memory_bytes(),
             Renderer::Ppm(r) => r.memory_bytes(),
+            Renderer::Sppm(r) => r.memory_bytes(),
         }
     }
 }

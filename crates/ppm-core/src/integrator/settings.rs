@@ -16,7 +16,14 @@ pub enum Algorithm {
     Path,
     /// Progressive photon mapping (`-a ppm`, the default).
     Ppm,
+    /// Stochastic progressive photon mapping (`-a sppm`): per-pixel radii and statistics,
+    /// photons splatted into the camera paths' visible points and never stored.
+    Sppm,
 }
+
+/// Light paths per photon-mapping iteration when neither the scene nor the command line
+/// says (`ppm`; `sppm` scales its default with the image, see [`RenderSettings::for_algorithm`]).
+pub const DEFAULT_PHOTONS: u32 = 200_000;
 
 /// How the path tracer finds light at non-specular vertices (all three converge to the same
 /// image; only MIS is meant for production, the others exist to cross-check it).
@@ -76,7 +83,7 @@ impl RenderSettings {
             max_depth: d.max_depth,
             rr_depth: 3,
             light_strategy: LightStrategy::Mis,
-            photons: d.photons,
+            photons: d.photons.unwrap_or(DEFAULT_PHOTONS),
             radius: d.radius.unwrap_or(0.005 * scene.diagonal()),
             alpha: d.alpha,
             // Measured at equal time (30 s, 2 threads, 256 px wide, against the path-traced
@@ -85,5 +92,19 @@ impl RenderSettings {
             // part of the density estimate (direct light) for one shadow ray per pixel.
             direct: DirectMode::Sampled,
         }
+    }
+
+    /// [`RenderSettings::new`] for `algorithm`. Where the scene gives no photon count, `sppm`
+    /// traces one light path per pixel per iteration (as pbrt-v4's SPPM integrator does by
+    /// default; the choice is measured in docs/sppm.md): its memory and its per-iteration
+    /// visible-point pass scale with the pixels, so its photon pass should too.
+    pub fn for_algorithm(scene: &Scene, algorithm: Algorithm) -> Self {
+        let mut settings = RenderSettings::new(scene);
+        settings.algorithm = algorithm;
+        if algorithm == Algorithm::Sppm && scene.defaults.photons.is_none() {
+            let pixels = scene.camera.width as u64 * scene.camera.height as u64;
+            settings.photons = pixels.clamp(1, u32::MAX as u64) as u32;
+        }
+        settings
     }
 }

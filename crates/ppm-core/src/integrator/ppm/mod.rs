@@ -12,7 +12,9 @@ mod photon_pass;
 mod radius;
 
 pub use eye_pass::{density_estimate, GatherContext};
-pub use photon_pass::{stores_photons, trace_light_path, MAX_LIGHT_PATHS};
+pub use photon_pass::{
+    stores_photons, trace_light_path, PhotonCounters, PhotonSink, MAX_LIGHT_PATHS,
+};
 pub use radius::RadiusSchedule;
 
 use super::camera_walk::RayCounters;
@@ -25,7 +27,6 @@ use crate::photon::{HashGrid, Kernel, PhotonBuffer};
 use crate::scene::Scene;
 use eye_pass::trace_eye_path;
 use glam::Vec3;
-use photon_pass::PhotonCounters;
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicBool, Ordering};
 

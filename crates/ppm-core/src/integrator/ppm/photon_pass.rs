@@ -8,6 +8,7 @@ use crate::light::Light;
 use crate::photon::{Photon, PhotonWriter};
 use crate::sampling::Rng;
 use crate::scene::Scene;
+use glam::Vec3;
 
 /// Random streams of light paths are kept apart from the eye paths' by this salt.
 pub const PHOTON_STREAM: u64 = 0x7068_6f74_6f6e_7321;
@@ -26,6 +27,22 @@ pub struct PhotonCounters {
     pub photons: u64,
 }
 
+/// Where a light path's photons go: stored in a photon buffer (`ppm`) or splatted straight
+/// into the visible points of the camera paths (`sppm`, which never stores them). Generic, so
+/// the light-path walk is written once and dispatched statically.
+pub trait PhotonSink {
+    /// A photon at `position` that arrived from `wi` (unit, pointing away from the surface)
+    /// carrying `flux`; `key` orders photons by (light path, bounce).
+    fn deposit(&mut self, position: Vec3, wi: Vec3, flux: Vec3, key: u32);
+}
+
+impl PhotonSink for PhotonWriter<'_> {
+    #[inline]
+    fn deposit(&mut self, position: Vec3, wi: Vec3, flux: Vec3, key: u32) {
+        self.push(Photon::new(position, wi, flux, key));
+    }
+}
+
 /// True where photons are stored: surfaces whose BSDF has a diffuse part, which the eye pass
 /// density-estimates. Never where every lobe is glossy or specular: those lobes are traced
 /// (6.4), and photons there would be counted by no estimate.
@@ -34,7 +51,7 @@ pub fn stores_photons(bsdf: &Bsdf) -> bool {
     bsdf.flags().contains(BsdfFlags::DIFFUSE)
 }
 
-/// Traces light path `path` of iteration `iteration` and stores its photons in `out`.
+/// Traces light path `path` of iteration `iteration` and deposits its photons in `out`.
 ///
 /// The path starts with a light chosen in proportion to power, a point uniform on it and a
 /// cosine-weighted direction, so its flux is Phi = Le cos / (p_light p_area p_dir)
@@ -47,12 +64,12 @@ pub fn stores_photons(bsdf: &Bsdf) -> bool {
 /// is q = min(1, max(flux after) / max(flux before)) (the reflectivity of the bounce along the
 /// sampled direction), and survivors are divided by q.
 #[inline]
-pub fn trace_light_path(
+pub fn trace_light_path<S: PhotonSink>(
     scene: &Scene,
     settings: &RenderSettings,
     iteration: u64,
     path: u32,
-    out: &mut PhotonWriter<'_>,
+    out: &mut S,
     counters: &mut PhotonCounters,
 ) {
     let mut rng = Rng::new(settings.seed ^ PHOTON_STREAM, iteration, path as u64);
@@ -79,7 +96,7 @@ pub fn trace_light_path(
         let wo = -ray.dir;
         if bounce >= first_stored_bounce && stores_photons(bsdf) {
             let key = (path << BOUNCE_BITS) | bounce.min((1 << BOUNCE_BITS) - 1);
-            out.push(Photon::new(hit.p, wo, flux, key));
+            out.deposit(hit.p, wo, flux, key);
             counters.photons += 1;
         }
         let sf = ShadingFrame::new(&hit, wo);

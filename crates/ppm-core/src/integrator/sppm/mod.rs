@@ -1,0 +1,328 @@
+//! Stochastic progressive photon mapping (Hachisuka and Jensen 2009), organised as pbrt-v4's
+//! SPPMIntegrator: every iteration
+//!
+//! 1. traces one jittered camera path per pixel to a visible point ([`visible_point`], on
+//!    the shared camera-path walk), collecting emission and sampled direct light on the way (radiance transport);
+//! 2. builds a hash grid over the visible points' discs ([`grid`]);
+//! 3. traces the iteration's light paths (importance transport, the same walk as `ppm`) and
+//!    splats each photon into the visible points whose disc contains it ([`splat`]); photons
+//!    are never stored, so memory is bounded by the pixels, not by the photons;
+//! 4. updates each pixel's statistics (N, tau, R) ([`pixel`]).
+//!
+//! The pixel value after i iterations is L = Ld_avg + tau_i / (N_e pi R_i^2): the average of
+//! the camera paths' emission and direct light, plus the progressive density estimate.
+//! Every sum over threads is an integer sum or is merged in pixel order, so the same seed
+//! gives the same image at any thread count.
+
+mod grid;
+mod pixel;
+mod splat;
+mod visible_point;
+
+pub use grid::VisiblePointGrid;
+pub use pixel::{Accumulator, FixedPoint, PixelStatistics};
+pub use visible_point::{trace_camera_path, SplatPoint};
+
+use super::camera_walk::RayCounters;
+use super::{
+    image_bytes, trace_light_path, IterationStats, MemoryEstimate, MemoryPart, PassTimes,
+    PhotonCounters, RenderSettings, Stopwatch, MAX_LIGHT_PATHS,
+};
+use crate::film::{Film, Image};
+use crate::scene::Scene;
+use glam::Vec3;
+use rayon::prelude::*;
+use std::sync::atomic::{AtomicBool, Ordering};
+use splat::{SplatCounters, Splatter};
+
+/// Light paths per parallel work item of the photon pass.
+const PATHS_PER_TASK: u32 = 512;
+/// Pixels per parallel work item of the camera pass.
+const PIXELS_PER_TASK: usize = 1024;
+/// How much coarser the fixed-point code gets after an overflowed photon pass.
+const COARSER: f64 = 65_536.0;
+
+/// The render state of stochastic progressive photon mapping. Every buffer has one entry per
+/// pixel (the grid at most eight); none grows with the photons per iteration.
+pub struct SppmRenderer {
+    settings: RenderSettings,
+    /// Emission and sampled direct light of the camera paths, averaged over iterations.
+    direct: Film,
+    /// This iteration's camera-path radiance per pixel, before it joins `direct`.
+    direct_estimates: Vec<Vec3>,
+    statistics: Vec<PixelStatistics>,
+    points: Vec<SplatPoint>,
+    accumulators: Vec<Accumulator>,
+    grid: VisiblePointGrid,
+    /// Light paths traced over all iterations (N_e).
+    emitted: u64,
+    /// The current image, L per pixel.
+    image: Vec<Vec3>,
+    /// Splats dropped as NaN or infinite, and pixels whose photon estimate was not finite.
+    rejected: u64,
+}
+
+impl SppmRenderer {
+    /// A fresh render; every pixel starts at radius `settings.radius`. The number of light
+    /// paths per iteration is capped at [`MAX_LIGHT_PATHS`].
+    pub fn new(scene: &Scene, settings: RenderSettings) -> Self {
+        let mut settings = settings;
+        settings.photons = settings.photons.clamp(1, MAX_LIGHT_PATHS);
+        let (w, h) = (scene.camera.width, scene.camera.height);
+        let pixels = (w * h) as usize;
+        SppmRenderer {
+            direct: Film::new(w, h),
+            direct_estimates: vec![Vec3::ZERO; pixels],
+            statistics: vec![PixelStatistics::new(settings.radius); pixels],
+            points: vec![SplatPoint::default(); pixels],
+            accumulators: (0..pixels).map(|_| Accumulator::default()).collect(),
+            grid: VisiblePointGrid::new(),
+            emitted: 0,
+            image: vec![Vec3::ZERO; pixels],
+            rejected: 0,
+            settings,
+        }
+    }
+
+    /// What [`SppmRenderer::new`] and its iterations allocate for a `width` x `height` image:
+    /// per pixel only (statistics, visible point, accumulator, the direct-light film, the
+    /// image, and at most 8 grid entries plus a bucket), whatever the photons per iteration.
+    pub fn memory_estimate(width: u32, height: u32, _settings: &RenderSettings) -> MemoryEstimate {
+        let pixels = width as u64 * height as u64;
+        let per_pixel = (std::mem::size_of::<PixelStatistics>()
+            + std::mem::size_of::<SplatPoint>()
+            + std::mem::size_of::<Accumulator>()
+            + 9 * std::mem::size_of::<u32>()) as u64;
+        let mut estimate = MemoryEstimate::default();
+        estimate.add(MemoryPart::Image, image_bytes(width, height));
+        estimate.add(MemoryPart::Image, pixels.saturating_mul(per_pixel));
+        estimate
+    }
+
+    /// The photon pass, splatting into the accumulators. If a fixed-point sum overflows, the
+    /// accumulators are cleared and the pass redone with a coarser code: light paths are
+    /// keyed by (seed, iteration, path), so the redone pass splats the same photons.
+    /// `None` (accumulators cleared) if `stop` says yes before one of its work items starts.
+    fn photon_pass<F: Fn() -> bool + Sync>(
+        &mut self,
+        scene: &Scene,
+        iteration: u64,
+        stop: &F,
+    ) -> Option<(FixedPoint, SplatCounters, u64)> {
+        let paths = self.settings.photons;
+        let flux_unit = scene.total_power().max_element();
+        let mut scale = FixedPoint::FINE_SCALE;
+        loop {
+            let code = FixedPoint::new(flux_unit, scale);
+            let (settings, grid) = (&self.settings, &self.grid);
+            let (points, accumulators) = (&self.points[..], &self.accumulators[..]);
+            let tasks = paths.div_ceil(PATHS_PER_TASK);
+            let abandoned = AtomicBool::new(false);
+            let (counters, rays) = (0..tasks)
+                .into_par_iter()
+                .map(|task| {
+                    if stop() {
+                        abandoned.store(true, Ordering::Relaxed);
+                        return (SplatCounters::default(), 0);
+                    }
+                    let mut splatter = Splatter {
+                        grid,
+                        points,
+                        accumulators,
+                        code: &code,
+                        counters: SplatCounters::default(),
+                    };
+                    let mut light = PhotonCounters::default();
+                    let end = ((task + 1) * PATHS_PER_TASK).min(paths);
+                    for path in task * PATHS_PER_TASK..end {
+                        trace_light_path(
+                            scene,
+                            settings,
+                            iteration,
+                            path,
+                            &mut splatter,
+                            &mut light,
+                        );
+                    }
+                    (splatter.counters, light.rays)
+                })
+                .reduce(
+                    || (SplatCounters::default(), 0),
+                    |(a, ra), (b, rb)| {
+                        let sum = SplatCounters {
+                            photons: a.photons + b.photons,
+                            splats: a.splats + b.splats,
+                            rejected: a.rejected + b.rejected,
+                        };
+                        (sum, ra + rb)
+                    },
+                );
+            // Joined: every store above is visible here.
+            if abandoned.load(Ordering::Relaxed) {
+                pixel::clear(&mut self.accumulators);
+                return None;
+            }
+            if !code.overflowed() {
+                return Some((code, counters, rays));
+            }
+            pixel::clear(&mut self.accumulators);
+            scale /= COARSER;
+        }
+    }
+
+    /// Renders one iteration.
+    pub fn iterate(&mut self, scene: &Scene) -> IterationStats {
+        match self.iterate_until(scene, &|| false) {
+            Some(stats) => stats,
+            None => unreachable!("an iteration that is never asked to stop completes"),
+        }
+    }
+
+    /// [`SppmRenderer::iterate`], abandoned (`None`) if `stop` says yes before one of the
+    /// camera or photon pass's work items starts. The pixel statistics, the direct-light film
+    /// and the photon count change only after both passes, so an abandoned iteration leaves
+    /// the render as it was (the visible points and the grid are rebuilt by every iteration).
+    pub fn iterate_until<F: Fn() -> bool + Sync>(
+        &mut self,
+        scene: &Scene,
+        stop: &F,
+    ) -> Option<IterationStats> {
+        let iteration = self.direct.iterations();
+        let mut passes = PassTimes::default();
+        let mut clock = Stopwatch::start();
+
+        // 1. Camera paths to visible points, in pixel order.
+        let width = scene.camera.width as usize;
+        let settings = &self.settings;
+        let statistics = &self.statistics;
+        let abandoned = AtomicBool::new(false);
+        let camera = self
+            .direct_estimates
+            .par_chunks_mut(PIXELS_PER_TASK)
+            .zip(self.points.par_chunks_mut(PIXELS_PER_TASK))
+            .enumerate()
+            .map(|(task, (ld, points))| {
+                let mut counters = RayCounters::default();
+                if stop() {
+                    abandoned.store(true, Ordering::Relaxed);
+                    return counters;
+                }
+                for (i, (ld, vp)) in ld.iter_mut().zip(points).enumerate() {
+                    let pixel = task * PIXELS_PER_TASK + i;
+                    let (l, mut point) =
+                        trace_camera_path(scene, settings, iteration, pixel, width, &mut counters);
+                    point.r2 = statistics[pixel].r2 as f32;
+                    *ld = l;
+                    *vp = point;
+                }
+                counters
+            })
+            .reduce(RayCounters::default, RayCounters::merge);
+        // Joined: every store above is visible here.
+        if abandoned.load(Ordering::Relaxed) {
+            return None;
+        }
+        passes.eye = clock.lap();
+
+        // 2. The grid over the visible points.
+        let points = &self.points;
+        self.grid.build(points.len(), |i| points[i].disc());
+        passes.grid = clock.lap();
+
+        // 3. Photons splatted into the visible points.
+        let (code, splats, photon_rays) = self.photon_pass(scene, iteration, stop)?;
+        passes.photon = clock.lap();
+
+        // 4. Per-pixel statistics and the image.
+        let alpha = self.settings.alpha as f64;
+        self.statistics
+            .par_iter_mut()
+            .zip(self.accumulators.par_iter_mut())
+            .for_each(|(s, acc)| {
+                let (m, phi) = code.take(acc);
+                s.update(m, phi, alpha);
+            });
+        self.emitted += self.settings.photons as u64;
+        let before = self.direct.rejected();
+        self.direct.add_iteration(&self.direct_estimates);
+        let direct = self.direct.image();
+        let emitted = self.emitted as f64;
+        let bad_pixels = self
+            .image
+            .par_iter_mut()
+            .zip(direct.pixels.par_iter().zip(self.statistics.par_iter()))
+            .map(|(l, (ld, s))| {
+                let photons = s.radiance(emitted);
+                let ok = photons.is_finite();
+                *l = *ld + if ok { photons } else { Vec3::ZERO };
+                (!ok) as u64
+            })
+            .sum::<u64>();
+        self.rejected += splats.rejected + bad_pixels;
+        passes.film = clock.lap();
+
+        Some(IterationStats {
+            rays: camera.rays + photon_rays,
+            photon_rays,
+            shadow_rays: camera.shadow_rays,
+            light_paths: self.settings.photons as u64,
+            photons: splats.photons,
+            radius: self.rms_radius(),
+            rejected: self.direct.rejected() - before + splats.rejected + bad_pixels,
+            passes,
+        })
+    }
+
+    /// The root mean square of the pixels' radii for the next iteration.
+    pub fn rms_radius(&self) -> f32 {
+        let n = self.statistics.len().max(1) as f64;
+        (self.statistics.iter().map(|s| s.r2).sum::<f64>() / n).sqrt() as f32
+    }
+
+    /// Each pixel's statistics (row-major).
+    pub fn statistics(&self) -> &[PixelStatistics] {
+        &self.statistics
+    }
+
+    /// The current image, one value per pixel (row-major). SPPM's iterations are not
+    /// independent estimates (the statistics carry over), so unlike `ppm` this is the image
+    /// after the last iteration, not that iteration's estimate alone.
+    pub fn last_estimates(&self) -> &[Vec3] {
+        &self.image
+    }
+
+    /// The current image.
+    pub fn image(&self) -> Image {
+        Image {
+            width: self.direct.width,
+            height: self.direct.height,
+            pixels: self.image.clone(),
+        }
+    }
+
+    /// Iterations done.
+    pub fn iterations(&self) -> u64 {
+        self.direct.iterations()
+    }
+
+    /// Samples dropped as NaN, infinite or negative: camera-path radiance, splats and pixels.
+    pub fn rejected(&self) -> u64 {
+        self.direct.rejected() + self.rejected
+    }
+
+    /// (iteration, pixel) of the first camera path whose radiance was dropped.
+    pub fn first_rejected(&self) -> Option<(u64, u32)> {
+        self.direct.first_rejected()
+    }
+
+    /// Bytes held by the render state: all per pixel (statistics, visible points,
+    /// accumulators, films, grid), none per photon.
+    pub fn memory_bytes(&self) -> usize {
+        let per_pixel = std::mem::size_of::<PixelStatistics>()
+            + std::mem::size_of::<SplatPoint>()
+            + std::mem::size_of::<Accumulator>()
+            + 2 * std::mem::size_of::<Vec3>()
+            + 3 * std::mem::size_of::<f64>();
+        self.image.len() * per_pixel + self.grid.memory_bytes()
+    }
+}

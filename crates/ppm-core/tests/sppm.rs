@@ -1,0 +1,122 @@
+//! Stochastic progressive photon mapping: the furnace, thread-count determinism, the
+//! per-pixel radius rule, and the photon count default. (Convergence to the path tracer on
+//! the shipped scenes: tests/sppm.rs of the workspace.)
+
+mod test_scenes;
+
+use ppm_core::integrator::SppmRenderer;
+use ppm_core::prelude::*;
+use test_scenes::{assert_uniform_image, cornell, furnace, BoxContents, PixelStats};
+
+/// `seeds` independent SPPM renders of `iterations` iterations each; their final images are
+/// the samples of the per-pixel statistics (SPPM's iterations share per-pixel state, so
+/// unlike `ppm` they are not independent samples: whole renders are).
+fn sppm_stats(scene: &Scene, settings: &RenderSettings, seeds: u64, iterations: u32) -> PixelStats {
+    let mut stats = PixelStats::new((scene.camera.width * scene.camera.height) as usize);
+    for seed in 0..seeds {
+        let settings = RenderSettings {
+            seed: settings.seed + seed,
+            ..settings.clone()
+        };
+        let mut r = Renderer::new(scene, &settings);
+        for _ in 0..iterations {
+            r.iterate(scene);
+        }
+        assert_eq!(r.rejected(), 0, "NaN or Inf samples");
+        stats.add(&r.image().pixels);
+    }
+    stats
+}
+
+#[test]
+fn sppm_furnace_converges_to_five() {
+    // L = Le + a L => 5 for albedo 0.8 in every pixel, with photons for direct light or not.
+    let scene = furnace(0.8, 6);
+    for direct in [DirectMode::Photons, DirectMode::Sampled] {
+        let settings = RenderSettings {
+            max_depth: 100_000,
+            photons: 5_000,
+            radius: 0.05,
+            direct,
+            seed: 100,
+            ..RenderSettings::for_algorithm(&scene, Algorithm::Sppm)
+        };
+        let stats = sppm_stats(&scene, &settings, 16, 12);
+        // 16 renders: the standardised errors follow Student's t with 15 degrees of freedom,
+        // P(|t| > 6) = 2.4e-5 per value (216 values here).
+        assert_uniform_image(&stats, 5.0, 6.0, &format!("sppm {direct:?}"));
+    }
+}
+
+#[test]
+fn sppm_same_seed_same_image_at_any_thread_count() {
+    let scene = cornell(12, BoxContents::Glass);
+    for direct in [DirectMode::Photons, DirectMode::Sampled] {
+        let settings = RenderSettings {
+            photons: 5_000,
+            direct,
+            ..RenderSettings::for_algorithm(&scene, Algorithm::Sppm)
+        };
+        let render = |threads| {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            pool.install(|| {
+                let mut r = Renderer::new(&scene, &settings);
+                for _ in 0..3 {
+                    r.iterate(&scene);
+                }
+                r.image()
+            })
+        };
+        let one = render(1);
+        assert_eq!(one, render(2), "{direct:?}: 1 vs 2 threads");
+        assert_eq!(one, render(3), "{direct:?}: 1 vs 3 threads");
+        assert!(one.mean().max_element() > 0.0);
+    }
+}
+
+#[test]
+fn radii_shrink_only_where_photons_arrive() {
+    // Per-pixel radii: after some iterations every pixel that saw photons has a smaller
+    // radius, pixels that see nothing (the black lamp-less sky) keep theirs; N grows by
+    // alpha M, so with alpha = 2/3 the radius of a lit pixel shrinks strictly.
+    let scene = cornell(8, BoxContents::Diffuse);
+    let settings = RenderSettings {
+        photons: 20_000,
+        radius: 0.05,
+        ..RenderSettings::for_algorithm(&scene, Algorithm::Sppm)
+    };
+    let mut r = SppmRenderer::new(&scene, settings);
+    for _ in 0..4 {
+        r.iterate(&scene);
+    }
+    let r0 = 0.05f64 * 0.05;
+    let shrunk = r.statistics().iter().filter(|s| s.r2 < r0 * 0.999).count();
+    assert_eq!(
+        shrunk,
+        r.statistics().len(),
+        "every pixel of the closed box gets photons"
+    );
+    for s in r.statistics() {
+        assert!(s.n > 0.0 && s.tau.iter().all(|t| t.is_finite() && *t >= 0.0));
+    }
+}
+
+#[test]
+fn sppm_traces_one_light_path_per_pixel_unless_told() {
+    let scene = cornell(10, BoxContents::Diffuse); // built in code: no photon count given
+    assert_eq!(scene.defaults.photons, None);
+    let sppm = RenderSettings::for_algorithm(&scene, Algorithm::Sppm);
+    assert_eq!(sppm.photons, 100);
+    let ppm = RenderSettings::for_algorithm(&scene, Algorithm::Ppm);
+    assert_eq!(ppm.photons, ppm_core::integrator::DEFAULT_PHOTONS);
+    let mut builder = test_scenes::cornell_builder(10, BoxContents::Diffuse);
+    builder.defaults.photons = Some(1234);
+    let told = builder.build().unwrap();
+    assert_eq!(
+        RenderSettings::for_algorithm(&told, Algorithm::Sppm).photons,
+        1234
+    );
+}
