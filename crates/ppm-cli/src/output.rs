@@ -53,6 +53,13 @@ pub fn output_paths(output: Option<&Path>, scene: &Path) -> Result<OutputPaths> 
     })
 }
 
+impl OutputPaths {
+    /// The EXR of an extra image `name` next to the render: `out.exr` gives `out.<name>.exr`.
+    pub fn aov(&self, name: &str) -> PathBuf {
+        with_added_extension(&self.exr.with_extension(""), &format!("{name}.exr"))
+    }
+}
+
 /// `base` + `.ext`, keeping any dots already in the file name.
 fn with_added_extension(base: &Path, ext: &str) -> PathBuf {
     let mut s = base.as_os_str().to_owned();

@@ -6,6 +6,7 @@
 mod camera_path;
 mod camera_walk;
 mod direct;
+mod footprint;
 mod path;
 mod ppm;
 mod settings;
@@ -16,12 +17,13 @@ pub use camera_walk::{
     walk, walk_to_visible_point, Next, RayCounters, Vertex, VisiblePoint, Walk, WalkParams,
 };
 pub use direct::{emission_mis_weight, estimate_direct};
+pub use footprint::{footprint_radius, pilot_radii, FOOTPRINT_PIXELS, PILOT_STREAM};
 pub use path::PathTracer;
 pub use ppm::{
     density_estimate, stores_photons, trace_light_path, GatherContext, PpmRenderer, RadiusSchedule,
     MAX_LIGHT_PATHS,
 };
-pub use settings::{Algorithm, DirectMode, LightStrategy, RenderSettings};
+pub use settings::{Algorithm, DirectMode, LightStrategy, Radius, RenderSettings};
 pub use shading::ShadingFrame;
 
 use crate::film::Image;
@@ -39,7 +41,8 @@ pub struct IterationStats {
     /// Light paths traced and photons stored (photon mapping).
     pub light_paths: u64,
     pub photons: u64,
-    /// Gather radius used in this iteration (photon mapping).
+    /// Gather radius used in this iteration (photon mapping); with per-pixel radii
+    /// (`auto`) the one the photon grid was built for (see `PpmRenderer::iterate`).
     pub radius: f32,
     /// Samples dropped as NaN or infinite.
     pub rejected: u64,
@@ -155,6 +158,15 @@ impl Renderer {
         match self {
             Renderer::Path(r) => r.film().first_rejected(),
             Renderer::Ppm(r) => r.film().first_rejected(),
+        }
+    }
+
+    /// The gather radius of every pixel in the last iteration (photon mapping; `None` for
+    /// the path tracer or before the first iteration), as a grey image.
+    pub fn radius_image(&self) -> Option<Image> {
+        match self {
+            Renderer::Path(_) => None,
+            Renderer::Ppm(r) => r.radius_image(),
         }
     }
 
