@@ -83,15 +83,19 @@ fn photon_map(c: &mut Criterion) {
     ] {
         let scene = load(name);
         let settings = RenderSettings::new(&scene);
+        let radius0 = scene
+            .defaults
+            .radius
+            .expect("the shipped scenes give a radius");
         let photons = photons(&scene, &settings, paths);
         let points = gather_points(&scene, 50_000);
         let mut g = config(c, group);
         g.throughput(Throughput::Elements(photons.len() as u64));
         let mut grid = HashGrid::new();
         g.bench_function("grid_build", |b| {
-            b.iter(|| grid.build(black_box(&photons), settings.radius))
+            b.iter(|| grid.build(black_box(&photons), radius0))
         });
-        for radius in [settings.radius, settings.radius * 0.5] {
+        for radius in [radius0, radius0 * 0.5] {
             grid.build(&photons, radius);
             let ctx = GatherContext {
                 grid: &grid,

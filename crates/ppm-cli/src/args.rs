@@ -6,7 +6,7 @@
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use ppm_core::camera::MAX_RESOLUTION;
-use ppm_core::integrator::{Algorithm, DirectMode, LightStrategy};
+use ppm_core::integrator::{Algorithm, DirectMode, LightStrategy, Radius};
 use std::path::PathBuf;
 
 const AFTER_HELP: &str = "\
@@ -75,6 +75,26 @@ pub struct RenderArgs {
     /// CSV of iteration,seconds,relmse,rmse, written during the render (needs --reference).
     #[arg(long, value_name = "CSV", requires = "reference")]
     pub error_log: Option<PathBuf>,
+    /// Extra images written next to the render (photon mapping): `radius` writes
+    /// <output>.radius.exr, each pixel's gather radius in the last iteration (scene units).
+    #[arg(long, value_enum, value_name = "NAME")]
+    pub aov: Vec<AovArg>,
+}
+
+/// Extra images (arbitrary output variables) a render can write.
+#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum AovArg {
+    /// Each pixel's gather radius in the last iteration, in scene units (grey EXR).
+    Radius,
+}
+
+impl AovArg {
+    /// The tag in the file name: `<output>.<name>.exr`.
+    pub fn name(self) -> &'static str {
+        match self {
+            AovArg::Radius => "radius",
+        }
+    }
 }
 
 /// Settings shared by `render` and `converge`; unset ones come from the scene file.
@@ -96,10 +116,11 @@ pub struct SettingsArgs {
     /// and one per pixel for sppm].
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..), allow_negative_numbers = true)]
     pub photons: Option<u32>,
-    /// Photon mapping: initial gather radius in scene units [default: scene file, or 0.5%
-    /// of the scene's diagonal].
-    #[arg(long, value_parser = positive_finite, allow_negative_numbers = true)]
-    pub radius: Option<f32>,
+    /// Photon mapping: initial gather radius in scene units, or `auto` (each pixel's from its
+    /// footprint: 3 pixel widths at its first diffuse visible point) [default: scene file, or
+    /// auto].
+    #[arg(long, value_name = "R|auto", value_parser = gather_radius, allow_negative_numbers = true)]
+    pub radius: Option<Radius>,
     /// Photon mapping: radius reduction alpha in (0, 1].
     #[arg(long, value_parser = unit_interval, allow_negative_numbers = true)]
     pub alpha: Option<f32>,
@@ -240,6 +261,16 @@ fn positive_finite(s: &str) -> Result<f32, String> {
     }
 }
 
+/// `auto` or a finite number > 0.
+fn gather_radius(s: &str) -> Result<Radius, String> {
+    if s == "auto" {
+        return Ok(Radius::Auto);
+    }
+    positive_finite(s)
+        .map(Radius::World)
+        .map_err(|_| format!("{s} must be a finite number > 0 or `auto`"))
+}
+
 /// A value in (0, 1].
 fn unit_interval(s: &str) -> Result<f32, String> {
     let v = parse_f64(s)? as f32;
@@ -285,6 +316,23 @@ mod tests {
         assert_eq!(r.output, Some(PathBuf::from("out.png")));
         assert_eq!(r.settings.seed, 7);
         assert_eq!(r.algorithm, AlgorithmArg::Pt);
+    }
+
+    #[test]
+    fn radius_is_a_number_or_auto_and_aov_names_an_image() {
+        let radius = |v: &str| {
+            parse(&["s.yml", "--radius", v])
+                .unwrap()
+                .render
+                .settings
+                .radius
+        };
+        assert_eq!(radius("auto"), Some(Radius::Auto));
+        assert_eq!(radius("0.5"), Some(Radius::World(0.5)));
+        assert_eq!(parse(&["s.yml"]).unwrap().render.settings.radius, None);
+        let r = parse(&["s.yml", "--aov", "radius"]).unwrap().render;
+        assert_eq!(r.aov, [AovArg::Radius]);
+        assert!(parse(&["s.yml", "--aov", "depth"]).is_err());
     }
 
     #[test]
@@ -370,6 +418,8 @@ mod tests {
             &["s.yml", "--width", "100000"],
             &["s.yml", "--radius", "-1"],
             &["s.yml", "--radius", "nan"],
+            &["s.yml", "--radius", "Auto"],
+            &["s.yml", "--radius", "0"],
             &["s.yml", "--alpha", "1.5"],
             &["s.yml", "--alpha", "0"],
             &["s.yml", "--threads", "0"],

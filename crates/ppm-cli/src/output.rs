@@ -63,6 +63,13 @@ pub fn output_paths(output: Option<&Path>, scene: &Path) -> Result<OutputPaths> 
     })
 }
 
+impl OutputPaths {
+    /// The EXR of an extra image `name` next to the render: `out.exr` gives `out.<name>.exr`.
+    pub fn aov(&self, name: &str) -> PathBuf {
+        with_added_extension(&self.exr.with_extension(""), &format!("{name}.exr"))
+    }
+}
+
 /// `base` + `.ext`, keeping any dots already in the file name.
 fn with_added_extension(base: &Path, ext: &str) -> PathBuf {
     let mut s = base.as_os_str().to_owned();
@@ -251,7 +258,6 @@ fn pending_png(path: &Path, image: &Image) -> Result<PendingFile> {
 }
 
 /// Writes an image as a linear RGB f32 OpenEXR file, atomically (see [`write_png`]).
-#[cfg(test)]
 pub fn write_exr(path: &Path, image: &Image) -> Result<()> {
     pending_exr(path, image)?.commit()
 }

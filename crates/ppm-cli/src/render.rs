@@ -1,12 +1,12 @@
 //! The render loop (shared by `ppm render` and `ppm converge`) and the render command.
 
-use crate::args::{RenderArgs, DEFAULT_ITERATIONS};
+use crate::args::{AlgorithmArg, AovArg, RenderArgs, DEFAULT_ITERATIONS};
 use crate::error_log::{ErrorSample, ErrorTracker};
 use crate::output::{self, OutputPaths};
 use crate::progress::{peak_rss_bytes, Progress, Summary};
 use crate::signal::Interrupt;
 use crate::{guard, memory, setup};
-use anyhow::{Context, Result};
+use anyhow::{bail, Context, Result};
 use ppm_core::integrator::{PassTimes, Renderer};
 use ppm_core::scene::Scene;
 use std::path::Path;
@@ -134,6 +134,12 @@ pub fn run(args: &RenderArgs, interrupt: &Interrupt) -> Result<Outcome> {
     if let Some(log) = &args.error_log {
         output::check_writable(log)?;
     }
+    if !args.aov.is_empty() && args.algorithm == AlgorithmArg::Pt {
+        bail!("--aov radius needs photon mapping (-a ppm): the path tracer has no radius");
+    }
+    for aov in &args.aov {
+        output::check_writable(&paths.aov(aov.name()))?;
+    }
     let reference = args
         .reference
         .as_deref()
@@ -170,7 +176,7 @@ pub fn run(args: &RenderArgs, interrupt: &Interrupt) -> Result<Outcome> {
         last: Instant::now(),
     });
 
-    let (totals, image, rejected, state_bytes) =
+    let (totals, image, rejected, state_bytes, aovs) =
         setup::with_threads(args.settings.threads, || -> Result<_> {
             let mut renderer = Renderer::new(&scene, &settings);
             let progress = Progress::new(&stop, args.algorithm.name());
@@ -197,11 +203,19 @@ pub fn run(args: &RenderArgs, interrupt: &Interrupt) -> Result<Outcome> {
             );
             progress.finish();
             let totals = totals?;
+            let aovs: Vec<_> = args
+                .aov
+                .iter()
+                .filter_map(|&aov| match aov {
+                    AovArg::Radius => renderer.radius_image().map(|image| (aov, image)),
+                })
+                .collect();
             Ok((
                 totals,
                 renderer.image(),
                 (renderer.rejected(), renderer.first_rejected()),
                 renderer.memory_bytes(),
+                aovs,
             ))
         })??;
 
@@ -218,6 +232,11 @@ pub fn run(args: &RenderArgs, interrupt: &Interrupt) -> Result<Outcome> {
     }
     output::write_outputs(&paths, &image)?;
     status!("wrote {} and {}", paths.png.display(), paths.exr.display());
+    for (aov, aov_image) in &aovs {
+        let path = paths.aov(aov.name());
+        output::write_exr(&path, aov_image)?;
+        status!("wrote {}", path.display());
+    }
     let camera = &scene.camera;
     let (rejected, first_rejected) = rejected;
     let summary = Summary {

@@ -166,7 +166,7 @@ pub fn with_threads<T: Send>(threads: Option<u64>, f: impl FnOnce() -> T + Send)
 mod tests {
     use super::*;
     use crate::args::{DirectArg, LightStrategyArg};
-    use ppm_core::integrator::{Algorithm, DirectMode, LightStrategy};
+    use ppm_core::integrator::{Algorithm, DirectMode, LightStrategy, Radius};
 
     #[test]
     fn resolution_rules() {
@@ -234,7 +234,7 @@ mod tests {
             rr_depth: 3,
             light_strategy: LightStrategy::Mis,
             photons: 1000,
-            radius: 0.01,
+            radius: Radius::World(0.01),
             alpha: 0.7,
             direct: DirectMode::Photons,
         };
@@ -253,7 +253,7 @@ mod tests {
         let args = SettingsArgs {
             seed: 9,
             photons: Some(123),
-            radius: Some(0.5),
+            radius: Some(Radius::World(0.5)),
             alpha: Some(0.9),
             max_depth: Some(4),
             direct: Some(DirectArg::Sampled),
@@ -264,7 +264,7 @@ mod tests {
         assert_eq!(s.algorithm, Algorithm::Ppm);
         assert_eq!(
             (s.seed, s.photons, s.radius, s.alpha, s.max_depth),
-            (9, 123, 0.5, 0.9, 4)
+            (9, 123, Radius::World(0.5), 0.9, 4)
         );
         assert_eq!(s.direct, DirectMode::Sampled);
         assert_eq!(s.light_strategy, LightStrategy::BsdfOnly);

@@ -90,6 +90,12 @@ impl Camera {
         self
     }
 
+    /// The angle (radians, small-angle) one pixel subtends at the image centre:
+    /// 2 tan(fov / 2) / height. A pixel's footprint at distance d is about d times this.
+    pub fn pixel_angle(&self) -> f32 {
+        2.0 * self.tan_half_fov / self.height as f32
+    }
+
     /// Unit view direction.
     pub fn forward(&self) -> Vec3 {
         self.forward

@@ -53,7 +53,7 @@ pub mod prelude {
     pub use crate::camera::Camera;
     pub use crate::film::Image;
     pub use crate::geometry::{Sphere, TriangleMesh};
-    pub use crate::integrator::{Algorithm, DirectMode, RenderSettings, Renderer};
+    pub use crate::integrator::{Algorithm, DirectMode, Radius, RenderSettings, Renderer};
     pub use crate::light::PointLight;
     pub use crate::material::Material;
     pub use crate::scene::{Scene, SceneBuilder};

@@ -15,7 +15,8 @@ pub struct RenderDefaults {
     pub max_depth: u32,
     /// Light paths per photon-mapping iteration; `None` leaves it to the algorithm.
     pub photons: Option<u32>,
-    /// Initial gather radius in scene units; `None` derives it from the scene's size.
+    /// Initial gather radius in scene units; `None` (`radius: auto` or no radius in the file)
+    /// derives each pixel's from its footprint ([`crate::integrator::Radius::Auto`]).
     pub radius: Option<f32>,
     /// Radius reduction parameter of progressive photon mapping.
     pub alpha: f32,

@@ -69,7 +69,7 @@ fn nested_and_touching_dielectrics_keep_the_furnace_uniform() {
     let ppm = RenderSettings {
         max_depth: 100_000,
         photons: 20_000,
-        radius: 0.03,
+        radius: Radius::World(0.03),
         ..RenderSettings::new(&scene)
     };
     assert_all_pixels(&render_stats(&scene, &ppm, 24), 5.0, "ppm");
@@ -83,7 +83,7 @@ fn a_radius_so_small_that_most_pixels_find_no_photon_is_still_unbiased_on_averag
     let scene = cornell(16, BoxContents::Diffuse);
     let ppm = RenderSettings {
         photons: 20_000,
-        radius: 1e-4,
+        radius: Radius::World(1e-4),
         alpha: 0.999,
         seed: 3,
         ..RenderSettings::new(&scene)
@@ -110,7 +110,7 @@ fn a_radius_larger_than_the_scene_gathers_every_photon_and_stays_finite() {
     let scene = cornell(6, BoxContents::Glass);
     let settings = RenderSettings {
         photons: 2_000,
-        radius: 10.0,
+        radius: Radius::World(10.0),
         ..RenderSettings::new(&scene)
     };
     let mut r = Renderer::new(&scene, &settings);

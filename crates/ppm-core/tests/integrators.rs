@@ -42,7 +42,7 @@ fn ppm_furnace_converges_to_five() {
         let settings = RenderSettings {
             max_depth: 100_000,
             photons: 20_000,
-            radius: 0.03,
+            radius: Radius::World(0.03),
             direct,
             ..RenderSettings::new(&scene)
         };
@@ -98,7 +98,7 @@ fn assert_ppm_matches_pt(scene: &Scene, pt_iterations: u32, ppm_iterations: u32,
     );
     let ppm_settings = RenderSettings {
         photons: 50_000,
-        radius: 0.04,
+        radius: Radius::World(0.04),
         seed: 2,
         ..RenderSettings::new(scene)
     };
@@ -246,7 +246,7 @@ fn photons_never_leak_through_a_thin_wall() {
         for direct in [DirectMode::Photons, DirectMode::Sampled] {
             let settings = RenderSettings {
                 photons: 20_000,
-                radius: 0.1,
+                radius: Radius::World(0.1),
                 direct,
                 ..RenderSettings::new(&scene)
             };

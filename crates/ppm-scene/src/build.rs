@@ -135,7 +135,8 @@ pub fn build(
             defaults.photons = Some(p.0);
         }
         if let Some(radius) = r.radius {
-            defaults.radius = Some(radius.0);
+            // `auto` (None) is also the default.
+            defaults.radius = radius.0;
         }
         if let Some(a) = r.alpha {
             defaults.alpha = a.0;

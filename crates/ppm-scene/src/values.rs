@@ -135,6 +135,42 @@ impl<R: Rule> Visitor<'_> for NumVisitor<R> {
     }
 }
 
+/// The initial gather radius of `render:`: a number > 0 in scene units, or `auto` (each
+/// pixel's from its footprint). `None` stands for `auto`.
+pub struct GatherRadius(pub Option<f32>);
+
+impl<'de> Deserialize<'de> for GatherRadius {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct V;
+        impl Visitor<'_> for V {
+            type Value = GatherRadius;
+            fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+                write!(f, "{} or `auto`", Positive::WHAT)
+            }
+            fn visit_f64<E: de::Error>(self, x: f64) -> Result<GatherRadius, E> {
+                NumVisitor::<Positive>::check(x).map(|n| GatherRadius(Some(n.0)))
+            }
+            fn visit_i64<E: de::Error>(self, x: i64) -> Result<GatherRadius, E> {
+                self.visit_f64(x as f64)
+            }
+            fn visit_u64<E: de::Error>(self, x: u64) -> Result<GatherRadius, E> {
+                self.visit_f64(x as f64)
+            }
+            fn visit_str<E: de::Error>(self, s: &str) -> Result<GatherRadius, E> {
+                if s == "auto" {
+                    Ok(GatherRadius(None))
+                } else {
+                    Err(E::custom(format!(
+                        "`{s}` is not a radius, expected {} or `auto`",
+                        Positive::WHAT
+                    )))
+                }
+            }
+        }
+        d.deserialize_any(V)
+    }
+}
+
 impl<'de, R: Rule> Deserialize<'de> for Triple<R> {
     fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
         d.deserialize_seq(TripleVisitor::<R>(PhantomData))

@@ -497,6 +497,35 @@ fn optional_parts_have_documented_defaults() {
 }
 
 #[test]
+fn render_radius_is_a_number_or_auto() {
+    let radius = |value: &str| {
+        parse_scene(
+            &format!("{VALID}render: {{ radius: {value} }}\n"),
+            Path::new("d.yml"),
+        )
+        .map(|(b, _)| b.defaults.radius)
+    };
+    // auto and an absent radius both mean per-pixel footprints (None); numbers keep their
+    // meaning (format v1).
+    assert_eq!(radius("auto").unwrap(), None);
+    assert_eq!(radius("2").unwrap(), Some(2.0));
+    assert_eq!(radius("0.05").unwrap(), Some(0.05));
+    let (b, _) = parse_scene(VALID, Path::new("d.yml")).unwrap();
+    assert_eq!(b.defaults.radius, None);
+    for (bad, needle) in [
+        ("Auto", "`Auto` is not a radius"),
+        ("0", "> 0"),
+        ("-1", "> 0"),
+        (".nan", "> 0"),
+        ("[1, 2]", "or `auto`"),
+    ] {
+        let e = error(&format!("{VALID}render: {{ radius: {bad} }}\n"));
+        has(&e, &["render.radius", needle]);
+        assert!(e.starts_with("dir/bad.yml:"), "{e}");
+    }
+}
+
+#[test]
 fn relative_mesh_paths_are_relative_to_the_scene_file() {
     let dir = write_files(
         "errors_relative",

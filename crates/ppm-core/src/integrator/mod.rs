@@ -7,6 +7,7 @@
 mod camera_path;
 mod camera_walk;
 mod direct;
+mod footprint;
 mod memory;
 mod path;
 mod ppm;
@@ -19,6 +20,7 @@ pub use camera_walk::{
     walk, walk_to_visible_point, Next, RayCounters, Vertex, VisiblePoint, Walk, WalkParams,
 };
 pub use direct::{emission_mis_weight, estimate_direct};
+pub use footprint::{footprint_radius, pilot_radii, FOOTPRINT_PIXELS, PILOT_STREAM};
 pub use memory::{
     image_bytes, MemoryEstimate, MemoryItem, MemoryPart, BYTES_PER_PHOTON, BYTES_PER_PIXEL,
     PHOTONS_PER_PATH,
@@ -29,7 +31,7 @@ pub use ppm::{
     PpmRenderer, RadiusSchedule, MAX_LIGHT_PATHS,
 };
 pub use settings::{
-    Algorithm, DirectMode, LightStrategy, RenderSettings, DEFAULT_PHOTONS, MAX_DEPTH,
+    Algorithm, DirectMode, LightStrategy, Radius, RenderSettings, DEFAULT_PHOTONS, MAX_DEPTH,
 };
 pub use shading::ShadingFrame;
 pub use sppm::{PixelStatistics, SplatPoint, SppmRenderer};
@@ -49,7 +51,8 @@ pub struct IterationStats {
     /// Light paths traced and photons stored (photon mapping).
     pub light_paths: u64,
     pub photons: u64,
-    /// Gather radius used in this iteration (photon mapping).
+    /// Gather radius used in this iteration (photon mapping); with per-pixel radii
+    /// (`auto`) the one the photon grid was built for (see `PpmRenderer::iterate`).
     pub radius: f32,
     /// Samples dropped as NaN or infinite.
     pub rejected: u64,
@@ -201,6 +204,16 @@ impl Renderer {
             Renderer::Path(r) => r.film().first_rejected(),
             Renderer::Ppm(r) => r.film().first_rejected(),
             Renderer::Sppm(r) => r.first_rejected(),
+        }
+    }
+
+    /// The gather radius of every pixel in the last iteration (photon mapping; `None` for
+    /// the path tracer or before the first iteration), as a grey image.
+    pub fn radius_image(&self) -> Option<Image> {
+        match self {
+            Renderer::Path(_) => None,
+            Renderer::Ppm(r) => r.radius_image(),
+            Renderer::Sppm(r) => Some(r.radius_image()),
         }
     }
 

@@ -1,6 +1,19 @@
 //! Progressive photon mapping (Hachisuka et al. 2008), in the probabilistic formulation of
 //! Knaus and Zwicker 2011: every iteration is an independent photon-mapping estimate with
-//! the iteration's global radius, and the image is their average.
+//! the iteration's radius, and the image is their average.
+//!
+//! The radius is global (`Radius::World`) or per pixel (`Radius::Auto`): each pixel p then
+//! starts at its own r_1(p), fixed by a pilot pass before the first iteration
+//! ([`pilot_radii`]), and runs its own Knaus-Zwicker sequence
+//! r_{i+1}(p)^2 = r_i(p)^2 (i + alpha) / (i + 1) (their eq. 19). This is still their
+//! estimator, pixel by pixel: their analysis is of one measurement point, whose radius
+//! sequence is any deterministic sequence with that ratio; nothing in it couples pixels. The
+//! pilot's random numbers are drawn from its own stream, independent of every iteration's
+//! photons and eye paths, so conditioned on the pilot each r_1(p) is a constant, each
+//! iteration's estimate at p has the bias and variance of their analysis at radius r_i(p), and
+//! the average converges to the pixel's value as there. (A radius chosen from an iteration's
+//! own photons or paths would correlate with the estimate it scales and bias it.) Since the
+//! ratio does not depend on p, r_i(p) = r_1(p) s_i with s_i the schedule started at 1.
 //!
 //! One iteration: the photon pass ([`photon_pass`]) fills the shared append buffer, the hash
 //! grid is rebuilt over those photons, the eye pass ([`eye_pass`]) gathers them at the first
@@ -18,11 +31,12 @@ pub use photon_pass::{
 pub use radius::RadiusSchedule;
 
 use super::camera_walk::RayCounters;
+use super::footprint::{pilot_radii, quantile};
 use super::{
-    image_bytes, IterationStats, MemoryEstimate, MemoryPart, PassTimes, RenderSettings, Stopwatch,
-    BYTES_PER_PHOTON, MAX_DEPTH, PHOTONS_PER_PATH,
+    image_bytes, IterationStats, MemoryEstimate, MemoryPart, PassTimes, Radius, RenderSettings,
+    Stopwatch, BYTES_PER_PHOTON, MAX_DEPTH, PHOTONS_PER_PATH,
 };
-use crate::film::Film;
+use crate::film::{Film, Image};
 use crate::photon::{HashGrid, Kernel, PhotonBuffer};
 use crate::scene::Scene;
 use eye_pass::trace_eye_path;
@@ -34,12 +48,32 @@ use std::sync::atomic::{AtomicBool, Ordering};
 const PATHS_PER_TASK: u32 = 512;
 /// Pixels per parallel work item of the eye pass.
 const PIXELS_PER_TASK: usize = 1024;
+/// With per-pixel radii the grid's cells are built for this quantile of them: queries up to
+/// it visit 2 x 2 x 2 cells, larger ones (pixels that see far surfaces) visit more cells and
+/// stay exact. Building for the largest radius instead would make every query scan cells
+/// sized for the farthest pixel: a floor reaching 30 times further would cost the near pixels
+/// up to 900 times the photons per cell.
+const GRID_QUANTILE: f32 = 0.9;
+
+/// Per-pixel initial radii (`Radius::Auto`), fixed at the first iteration.
+struct PixelRadii {
+    /// r_1(p) for each pixel, row-major.
+    initial: Vec<f32>,
+    /// The [`GRID_QUANTILE`] quantile of `initial`: the grid is built for it times s_i.
+    grid: f32,
+}
 
 /// The render state of progressive photon mapping.
 pub struct PpmRenderer {
     settings: RenderSettings,
     film: Film,
+    /// The radius of the iteration (`Radius::World`), or the factor s_i by which every
+    /// pixel's radius has shrunk (`Radius::Auto`, started at 1).
     schedule: RadiusSchedule,
+    /// `Radius::Auto`: each pixel's r_1, from the pilot pass (made by the first iteration).
+    pixel_radii: Option<PixelRadii>,
+    /// The schedule's value in the last iteration (for [`PpmRenderer::radius_image`]).
+    last_scale: Option<f32>,
     /// Allocated once, grown when an iteration stores more photons than it holds.
     photons: PhotonBuffer,
     grid: HashGrid,
@@ -56,8 +90,14 @@ impl PpmRenderer {
         let (w, h) = (scene.camera.width, scene.camera.height);
         // Grown on demand when a scene stores more photons per path.
         let capacity = settings.photons as usize * PHOTONS_PER_PATH;
+        let start = match settings.radius {
+            Radius::World(r) => r,
+            Radius::Auto => 1.0,
+        };
         PpmRenderer {
-            schedule: RadiusSchedule::new(settings.radius, settings.alpha),
+            schedule: RadiusSchedule::new(start, settings.alpha),
+            pixel_radii: None,
+            last_scale: None,
             settings,
             film: Film::new(w, h),
             photons: PhotonBuffer::with_capacity(capacity),
@@ -135,7 +175,8 @@ impl PpmRenderer {
         }
     }
 
-    /// Renders one iteration.
+    /// Renders one iteration. With `Radius::Auto` the first one starts with the pilot pass
+    /// (its rays count as eye rays, its time as the eye pass's).
     pub fn iterate(&mut self, scene: &Scene) -> IterationStats {
         match self.iterate_until(scene, &|| false) {
             Some(stats) => stats,
@@ -151,9 +192,18 @@ impl PpmRenderer {
         stop: &F,
     ) -> Option<IterationStats> {
         let iteration = self.film.iterations();
-        let radius = self.schedule.radius();
         let mut passes = PassTimes::default();
         let mut clock = Stopwatch::start();
+        let mut pilot = RayCounters::default();
+        if self.settings.radius == Radius::Auto && self.pixel_radii.is_none() {
+            let s = &self.settings;
+            let initial = pilot_radii(scene, s.seed, s.max_depth, s.rr_depth, &mut pilot);
+            let grid = quantile(&initial, GRID_QUANTILE);
+            self.pixel_radii = Some(PixelRadii { initial, grid });
+        }
+        passes.eye = clock.lap();
+        let scale = self.schedule.radius();
+        let radius = self.pixel_radii.as_ref().map_or(scale, |p| p.grid * scale);
         let photon_counters = self.photon_pass(scene, iteration, stop)?;
         passes.photon = clock.lap();
         self.grid.build(self.photons.as_slice(), radius);
@@ -168,6 +218,7 @@ impl PpmRenderer {
         let width = scene.camera.width as usize;
         let settings = &self.settings;
         let abandoned = AtomicBool::new(false);
+        let pixel_radii = self.pixel_radii.as_ref().map(|p| &p.initial[..]);
         let eye = self
             .estimates
             .par_chunks_mut(PIXELS_PER_TASK)
@@ -180,10 +231,24 @@ impl PpmRenderer {
                 }
                 for (i, out) in pixels.iter_mut().enumerate() {
                     let pixel = task * PIXELS_PER_TASK + i;
+                    // This pixel's radius r_1(p) s_i, and its kernel.
+                    let own;
+                    let ctx = match pixel_radii {
+                        None => &ctx,
+                        Some(initial) => {
+                            let r = initial[pixel] * scale;
+                            own = GatherContext {
+                                kernel: Kernel::new(r),
+                                radius: r,
+                                ..ctx
+                            };
+                            &own
+                        }
+                    };
                     *out = trace_eye_path(
                         scene,
                         settings,
-                        &ctx,
+                        ctx,
                         iteration,
                         pixel,
                         width,
@@ -197,16 +262,17 @@ impl PpmRenderer {
         if abandoned.load(Ordering::Relaxed) {
             return None;
         }
-        passes.eye = clock.lap();
+        passes.eye += clock.lap();
 
         let before = self.film.rejected();
         self.film.add_iteration(&self.estimates);
         passes.film = clock.lap();
         self.schedule.advance();
+        self.last_scale = Some(scale);
         Some(IterationStats {
-            rays: eye.rays + photon_counters.rays,
+            rays: eye.rays + pilot.rays + photon_counters.rays,
             photon_rays: photon_counters.rays,
-            shadow_rays: eye.shadow_rays,
+            shadow_rays: eye.shadow_rays + pilot.shadow_rays,
             light_paths: self.settings.photons as u64,
             photons: photon_counters.photons,
             radius,
@@ -226,9 +292,28 @@ impl PpmRenderer {
         &self.film
     }
 
-    /// The radius the next iteration will use.
+    /// The radius the next iteration will use; with per-pixel radii the one its photon grid
+    /// will be built for (the [`GRID_QUANTILE`] quantile of the pixels'; before the first
+    /// iteration, the schedule's factor 1).
     pub fn radius(&self) -> f32 {
-        self.schedule.radius()
+        let scale = self.schedule.radius();
+        self.pixel_radii.as_ref().map_or(scale, |p| p.grid * scale)
+    }
+
+    /// The gather radius of every pixel in the last iteration as a grey image (`None` before
+    /// the first iteration).
+    pub fn radius_image(&self) -> Option<Image> {
+        let scale = self.last_scale?;
+        let mut image = Image::new(self.film.width, self.film.height);
+        match &self.pixel_radii {
+            None => image.pixels.fill(Vec3::splat(scale)),
+            Some(p) => {
+                for (out, r1) in image.pixels.iter_mut().zip(&p.initial) {
+                    *out = Vec3::splat(r1 * scale);
+                }
+            }
+        }
+        Some(image)
     }
 
     /// The photons stored by the last iteration, in the grid's (deterministic) order.
@@ -239,6 +324,10 @@ impl PpmRenderer {
     /// Bytes held by the render state (film, photon buffer, grid, per-pixel estimates).
     pub fn memory_bytes(&self) -> usize {
         self.estimates.len() * (std::mem::size_of::<Vec3>() + 3 * std::mem::size_of::<f64>())
+            + self
+                .pixel_radii
+                .as_ref()
+                .map_or(0, |p| p.initial.len() * std::mem::size_of::<f32>())
             + self.photons.memory_bytes()
             + self.grid.memory_bytes()
     }

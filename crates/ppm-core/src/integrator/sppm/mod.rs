@@ -24,9 +24,10 @@ pub use pixel::{Accumulator, FixedPoint, PixelStatistics};
 pub use visible_point::{trace_camera_path, SplatPoint};
 
 use super::camera_walk::RayCounters;
+use super::footprint::pilot_radii;
 use super::{
     image_bytes, trace_light_path, IterationStats, MemoryEstimate, MemoryPart, PassTimes,
-    PhotonCounters, RenderSettings, Stopwatch, MAX_LIGHT_PATHS,
+    PhotonCounters, Radius, RenderSettings, Stopwatch, MAX_LIGHT_PATHS,
 };
 use crate::film::{Film, Image};
 use crate::scene::Scene;
@@ -60,26 +61,36 @@ pub struct SppmRenderer {
     image: Vec<Vec3>,
     /// Splats dropped as NaN or infinite, and pixels whose photon estimate was not finite.
     rejected: u64,
+    /// `Radius::Auto` before the first iteration: every pixel's R_1 is still to be set from
+    /// its footprint ([`pilot_radii`]).
+    radii_pending: bool,
 }
 
 impl SppmRenderer {
-    /// A fresh render; every pixel starts at radius `settings.radius`. The number of light
+    /// A fresh render; every pixel starts at radius `settings.radius` (`Radius::World`), or
+    /// at a few pixel footprints at its first diffuse visible point (`Radius::Auto`, set by
+    /// the first iteration's pilot pass: [`pilot_radii`], shared with `ppm`). The number of light
     /// paths per iteration is capped at [`MAX_LIGHT_PATHS`].
     pub fn new(scene: &Scene, settings: RenderSettings) -> Self {
         let mut settings = settings;
         settings.photons = settings.photons.clamp(1, MAX_LIGHT_PATHS);
         let (w, h) = (scene.camera.width, scene.camera.height);
         let pixels = (w * h) as usize;
+        let (radius, radii_pending) = match settings.radius {
+            Radius::World(r) => (r, false),
+            Radius::Auto => (0.0, true),
+        };
         SppmRenderer {
             direct: Film::new(w, h),
             direct_estimates: vec![Vec3::ZERO; pixels],
-            statistics: vec![PixelStatistics::new(settings.radius); pixels],
+            statistics: vec![PixelStatistics::new(radius); pixels],
             points: vec![SplatPoint::default(); pixels],
             accumulators: (0..pixels).map(|_| Accumulator::default()).collect(),
             grid: VisiblePointGrid::new(),
             emitted: 0,
             image: vec![Vec3::ZERO; pixels],
             rejected: 0,
+            radii_pending,
             settings,
         }
     }
@@ -191,6 +202,18 @@ impl SppmRenderer {
         let mut passes = PassTimes::default();
         let mut clock = Stopwatch::start();
 
+        // 0. With `Radius::Auto`, each pixel's R_1 from its footprint. The pilot draws from
+        // its own random stream, so R_1 does not depend on any iteration's samples.
+        let mut pilot = RayCounters::default();
+        if self.radii_pending {
+            let s = &self.settings;
+            let radii = pilot_radii(scene, s.seed, s.max_depth, s.rr_depth, &mut pilot);
+            for (statistics, r) in self.statistics.iter_mut().zip(radii) {
+                *statistics = PixelStatistics::new(r);
+            }
+            self.radii_pending = false;
+        }
+
         // 1. Camera paths to visible points, in pixel order.
         let width = scene.camera.width as usize;
         let settings = &self.settings;
@@ -262,15 +285,25 @@ impl SppmRenderer {
         passes.film = clock.lap();
 
         Some(IterationStats {
-            rays: camera.rays + photon_rays,
+            rays: camera.rays + pilot.rays + photon_rays,
             photon_rays,
-            shadow_rays: camera.shadow_rays,
+            shadow_rays: camera.shadow_rays + pilot.shadow_rays,
             light_paths: self.settings.photons as u64,
             photons: splats.photons,
             radius: self.rms_radius(),
             rejected: self.direct.rejected() - before + splats.rejected + bad_pixels,
             passes,
         })
+    }
+
+    /// Every pixel's gather radius R for the next iteration, as a grey image.
+    pub fn radius_image(&self) -> Image {
+        let (w, h) = (self.direct.width, self.direct.height);
+        let mut image = Image::new(w, h);
+        for (out, s) in image.pixels.iter_mut().zip(&self.statistics) {
+            *out = Vec3::splat(s.r2.sqrt() as f32);
+        }
+        image
     }
 
     /// The root mean square of the pixels' radii for the next iteration.

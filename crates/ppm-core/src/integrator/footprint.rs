@@ -1,0 +1,126 @@
+//! The scale-free initial radius of photon mapping (`auto`): a few pixel footprints at each
+//! pixel's first diffuse visible point.
+//!
+//! A radius tied to the scene's extent fails on scenes with large ground planes or far walls,
+//! and one in world units must be tuned per scene. A pixel's footprint, the camera's angular
+//! pixel size times the distance travelled to its visible point, needs neither: scaling a
+//! scene scales the distances and the radius with them, and a far-reaching floor changes only
+//! the radius of the pixels that see it far away.
+
+use super::camera_walk::{walk, Next, RayCounters, WalkParams};
+use super::LightStrategy;
+use crate::camera::Camera;
+use crate::sampling::Rng;
+use crate::scene::Scene;
+use glam::Vec2;
+use rayon::prelude::*;
+
+/// Pixel widths in an auto radius. One pixel would blur nothing visible but gather few photons
+/// (variance); the radius should be a little larger than a pixel so that each gather averages
+/// more photons, while its blur (bias) stays near the pixel scale. Three is the footprint of
+/// the radius that was tuned by hand for the shipped Cornell box scenes (0.5% of the box
+/// diagonal, about 3 pixels at 512 x 512), and the radius then shrinks by Knaus and Zwicker's
+/// schedule as everywhere else.
+pub const FOOTPRINT_PIXELS: f32 = 3.0;
+
+/// Random streams of the pilot paths, apart from the eye and light paths'.
+pub const PILOT_STREAM: u64 = 0x7069_6c6f_745f_7221;
+
+/// The radius a pixel's gather should start with when its visible point lies at `length` along
+/// the camera path (the sum of the segment lengths through any specular or glossy chain):
+/// `FOOTPRINT_PIXELS * pixel_angle * length`, the footprint of that many pixels projected at
+/// that distance. Through a flat mirror or a refracting slab the path length is the distance
+/// to the virtual image, so the footprint is right; curved specular surfaces magnify or shrink
+/// it, which the path length does not see (the radius is then only of the right order). The
+/// footprint is measured perpendicular to the ray: on a surface seen at grazing angles the
+/// pixel's footprint is longer along the slope, and the radius keeps its short side.
+///
+/// Reusable by every photon mapper (PPM's pilot, SPPM's visible points).
+#[inline]
+pub fn footprint_radius(camera: &Camera, length: f32) -> f32 {
+    FOOTPRINT_PIXELS * camera.pixel_angle() * length
+}
+
+/// The initial radius of every pixel (row-major) for [`super::Radius::Auto`], from one pilot
+/// path per pixel through its centre: the path follows specular and glossy lobes (sampled as
+/// the eye pass does, with its own random stream keyed by (seed, pixel)) to its first vertex
+/// with a diffuse part, and the radius is [`footprint_radius`] at its path length. Pixels
+/// whose pilot finds no such vertex (the background, a path absorbed on the way) take the
+/// median of the others' radii; if no pixel finds one the scene has nothing to gather on and
+/// 0.5% of the scene's diagonal stands in.
+///
+/// The pilot's random numbers are its own, drawn before and independently of every
+/// iteration's, so the radii are fixed, not random, for the iterations' estimates.
+pub fn pilot_radii(
+    scene: &Scene,
+    seed: u64,
+    max_depth: u32,
+    rr_depth: u32,
+    counters: &mut RayCounters,
+) -> Vec<f32> {
+    let camera = &scene.camera;
+    let width = camera.width as usize;
+    let pixels = width * camera.height as usize;
+    let params = WalkParams {
+        max_depth,
+        rr_depth,
+        emission: LightStrategy::Mis,
+    };
+    let mut radii = vec![f32::NAN; pixels];
+    let total = radii
+        .par_chunks_mut(width)
+        .enumerate()
+        .map(|(y, row)| {
+            let mut row_counters = RayCounters::default();
+            for (x, out) in row.iter_mut().enumerate() {
+                let pixel = (y * width + x) as u64;
+                let mut rng = Rng::new(seed ^ PILOT_STREAM, 0, pixel);
+                let ray = camera.generate_ray(Vec2::new(x as f32 + 0.5, y as f32 + 0.5));
+                let mut length = None;
+                walk(
+                    scene,
+                    params,
+                    ray,
+                    &mut rng,
+                    &mut row_counters,
+                    |w, v, _| {
+                        if v.bsdf.diffuse_part().is_some() {
+                            length = Some(w.length);
+                            return Next::Stop;
+                        }
+                        v.bsdf.non_diffuse_part().map_or(Next::Stop, Next::Scatter)
+                    },
+                );
+                *out = length.map_or(f32::NAN, |l| footprint_radius(camera, l));
+            }
+            row_counters
+        })
+        .reduce(RayCounters::default, RayCounters::merge);
+    counters.rays += total.rays;
+    counters.shadow_rays += total.shadow_rays;
+    let mut found: Vec<f32> = radii
+        .iter()
+        .copied()
+        .filter(|r| r.is_finite() && *r > 0.0)
+        .collect();
+    let fallback = if found.is_empty() {
+        0.005 * scene.diagonal()
+    } else {
+        let mid = found.len() / 2;
+        *found.select_nth_unstable_by(mid, f32::total_cmp).1
+    };
+    for r in &mut radii {
+        if !(r.is_finite() && *r > 0.0) {
+            *r = fallback;
+        }
+    }
+    radii
+}
+
+/// The `q`-quantile (0 <= q <= 1) of `values` (not empty), by selection: the value of rank
+/// round(q (n - 1)).
+pub(crate) fn quantile(values: &[f32], q: f32) -> f32 {
+    let mut v = values.to_vec();
+    let k = ((q.clamp(0.0, 1.0) * (v.len() - 1) as f32).round() as usize).min(v.len() - 1);
+    *v.select_nth_unstable_by(k, f32::total_cmp).1
+}
