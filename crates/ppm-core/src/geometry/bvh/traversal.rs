@@ -355,6 +355,7 @@ mod tests {
     /// boxes (also flat and inverted ones, unused lanes) against random rays (also with zero
     /// direction components and origins on a box face).
     #[test]
+    #[allow(clippy::needless_range_loop)] // a lane indexes the node and both results
     fn slab_matches_scalar_reference() {
         let mut rng = Rng::new(11, 0, 0);
         let mut value = move || (rng.uniform() * 2.0 - 1.0) * 4.0;
