@@ -7,6 +7,7 @@ mod tracer;
 
 use super::{IterationStats, PassTimes, RenderSettings, Stopwatch};
 use crate::film::Film;
+use crate::pixel_bounds::PixelBounds;
 use crate::sampling::Rng;
 use crate::scene::Scene;
 use glam::{Vec2, Vec3};
@@ -22,6 +23,8 @@ const TILE_ROWS: usize = 4;
 pub struct PathTracer {
     settings: RenderSettings,
     film: Film,
+    /// The pixels rendered (the whole image unless cropped).
+    bounds: PixelBounds,
     /// One estimate per pixel for the current iteration, reused.
     estimates: Vec<Vec3>,
 }
@@ -30,10 +33,16 @@ impl PathTracer {
     /// A fresh render.
     pub fn new(scene: &Scene, settings: RenderSettings) -> Self {
         let (w, h) = (scene.camera.width, scene.camera.height);
+        Self::with_bounds(settings, PixelBounds::full(w, h))
+    }
+
+    /// A fresh render of the pixels in `bounds` only (see [`PixelBounds`]).
+    pub fn with_bounds(settings: RenderSettings, bounds: PixelBounds) -> Self {
         PathTracer {
             settings,
-            film: Film::new(w, h),
-            estimates: vec![Vec3::ZERO; (w * h) as usize],
+            film: Film::new(bounds.width(), bounds.height()),
+            bounds,
+            estimates: vec![Vec3::ZERO; bounds.len()],
         }
     }
 
@@ -46,15 +55,16 @@ impl PathTracer {
         let iteration = self.film.iterations();
         let width = scene.camera.width as usize;
         let settings = &self.settings;
+        let bounds = self.bounds;
         let mut clock = Stopwatch::start();
         let counters = self
             .estimates
-            .par_chunks_mut(width * TILE_ROWS)
+            .par_chunks_mut(bounds.width() as usize * TILE_ROWS)
             .enumerate()
             .map(|(tile, rows)| {
                 let mut counters = PathCounters::default();
                 for (i, out) in rows.iter_mut().enumerate() {
-                    let pixel = tile * width * TILE_ROWS + i;
+                    let pixel = bounds.full_index(tile * bounds.width() as usize * TILE_ROWS + i);
                     let mut rng = Rng::new(settings.seed, iteration, pixel as u64);
                     let film =
                         Vec2::new((pixel % width) as f32, (pixel / width) as f32) + rng.uniform2();

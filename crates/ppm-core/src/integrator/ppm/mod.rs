@@ -18,6 +18,7 @@ pub use radius::RadiusSchedule;
 use super::{IterationStats, PassTimes, RenderSettings, Stopwatch};
 use crate::film::Film;
 use crate::photon::{HashGrid, Kernel, PhotonBuffer};
+use crate::pixel_bounds::PixelBounds;
 use crate::scene::Scene;
 use eye_pass::{trace_eye_path, EyeCounters};
 use glam::Vec3;
@@ -33,6 +34,9 @@ const PIXELS_PER_TASK: usize = 1024;
 pub struct PpmRenderer {
     settings: RenderSettings,
     film: Film,
+    /// The pixels rendered (the whole image unless cropped); photons are traced for the
+    /// whole scene either way, keyed by light path, so a crop changes no pixel.
+    bounds: PixelBounds,
     schedule: RadiusSchedule,
     /// Allocated once, grown when an iteration stores more photons than it holds.
     photons: PhotonBuffer,
@@ -43,18 +47,24 @@ pub struct PpmRenderer {
 impl PpmRenderer {
     /// A fresh render. The number of light paths is capped at [`MAX_LIGHT_PATHS`].
     pub fn new(scene: &Scene, settings: RenderSettings) -> Self {
+        let (w, h) = (scene.camera.width, scene.camera.height);
+        Self::with_bounds(settings, PixelBounds::full(w, h))
+    }
+
+    /// A fresh render of the pixels in `bounds` only (see [`PixelBounds`]).
+    pub fn with_bounds(settings: RenderSettings, bounds: PixelBounds) -> Self {
         let mut settings = settings;
         settings.photons = settings.photons.clamp(1, MAX_LIGHT_PATHS);
-        let (w, h) = (scene.camera.width, scene.camera.height);
         // About 3 photons per light path in a closed box with albedo ~0.7; grown on demand.
         let capacity = settings.photons as usize * 4;
         PpmRenderer {
             schedule: RadiusSchedule::new(settings.radius, settings.alpha),
             settings,
-            film: Film::new(w, h),
+            film: Film::new(bounds.width(), bounds.height()),
+            bounds,
             photons: PhotonBuffer::with_capacity(capacity),
             grid: HashGrid::new(),
-            estimates: vec![Vec3::ZERO; (w * h) as usize],
+            estimates: vec![Vec3::ZERO; bounds.len()],
         }
     }
 
@@ -117,6 +127,7 @@ impl PpmRenderer {
         };
         let width = scene.camera.width as usize;
         let settings = &self.settings;
+        let bounds = self.bounds;
         let eye = self
             .estimates
             .par_chunks_mut(PIXELS_PER_TASK)
@@ -124,7 +135,7 @@ impl PpmRenderer {
             .map(|(task, pixels)| {
                 let mut counters = EyeCounters::default();
                 for (i, out) in pixels.iter_mut().enumerate() {
-                    let pixel = task * PIXELS_PER_TASK + i;
+                    let pixel = bounds.full_index(task * PIXELS_PER_TASK + i);
                     *out = trace_eye_path(
                         scene,
                         settings,
