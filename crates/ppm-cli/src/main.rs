@@ -4,13 +4,20 @@
 #[macro_use]
 mod console;
 mod args;
+mod bare_obj;
+mod black_image;
 mod compare;
 mod converge;
+mod crop;
+mod display;
 mod error_log;
+mod info;
 mod output;
 mod plot;
 mod progress;
 mod render;
+mod report;
+mod scene_search;
 mod setup;
 mod signal;
 
@@ -38,6 +45,7 @@ fn run(cli: Cli) -> Result<Outcome> {
     let interrupt = Interrupt::new();
     match cli.command {
         Some(Command::Compare(args)) => compare::run(&args).map(|()| Outcome::Finished),
+        Some(Command::Info(args)) => info::run(&args.image).map(|()| Outcome::Finished),
         Some(Command::Converge(args)) => {
             interrupt.install_handler()?;
             converge::run(&args, &interrupt)
