@@ -294,13 +294,13 @@ fn spp_quiet_verbose_and_threads() {
 fn the_summary_says_seed_photons_and_radius() {
     let dir = tempfile::tempdir().unwrap();
     tiny_scene(dir.path());
-    // The tiny scene's radius 0.1 and alpha 0.7: r_2 = 0.1 sqrt(1.7 / 2) = 0.0922.
+    // The tiny scene's radius 0.1 and alpha 0.7: r_2 = 0.1 sqrt(1.7 / 2) = 0.092195...
     let log = ok(
         dir.path(),
         &["tiny.yml", "-n", "2", "--seed", "9", "-t", "2"],
     );
     assert!(
-        log.contains("seed 9, 2000 photons (light paths) per iteration, radius 0.1 -> 0.0922")
+        log.contains("seed 9, 2000 photons (light paths) per iteration, radius 0.1 -> 0.09219")
             && log.contains("(alpha 0.7), direct light sampled, max depth 6, 2 threads"),
         "{log}"
     );
