@@ -41,6 +41,8 @@ pub enum Command {
     Compare(CompareArgs),
     /// Run algorithms for the same time budget and plot relMSE against time.
     Converge(ConvergeArgs),
+    /// Print what an EXR image records: size, channels and every header attribute.
+    Info(InfoArgs),
 }
 
 /// Iterations rendered when neither `-n` nor `--time-limit` is given.
@@ -48,12 +50,18 @@ pub const DEFAULT_ITERATIONS: u64 = 32;
 
 #[derive(Args, Debug, Clone)]
 pub struct RenderArgs {
-    /// Scene file (YAML); looked up in scenes/ when not found as given.
+    /// Scene file (YAML); when not found as given, looked up in ./scenes, $PPM_SCENES, the
+    /// scenes installed beside the binary and the source tree's scenes/.
     #[arg(required = true)]
     pub scene: Option<PathBuf>,
-    /// Iterations to render [default: 32, or unlimited with --time-limit].
+    /// Iterations to render [default: 32, or unlimited with --time-limit]. Each iteration
+    /// traces one camera path per pixel (pt: one sample per pixel; ppm: plus a photon pass).
     #[arg(short = 'n', long, value_parser = clap::value_parser!(u64).range(1..), allow_negative_numbers = true)]
     pub iterations: Option<u64>,
+    /// Path tracing: samples per pixel, the same as -n (one sample per pixel per iteration);
+    /// refused for ppm, where an iteration is more than a sample (use -n).
+    #[arg(long, value_name = "N", conflicts_with = "iterations", value_parser = clap::value_parser!(u64).range(1..), allow_negative_numbers = true)]
+    pub spp: Option<u64>,
     /// Output image: out.png, out.exr or out all write out.png + out.exr
     /// [default: <scene stem>.png/.exr in the current folder].
     #[arg(short, long, value_name = "PATH")]
@@ -75,6 +83,23 @@ pub struct RenderArgs {
     /// CSV of iteration,seconds,relmse,rmse, written during the render (needs --reference).
     #[arg(long, value_name = "CSV", requires = "reference")]
     pub error_log: Option<PathBuf>,
+    /// Render only this window, in fractions of the image from the top-left corner (pbrt's
+    /// convention); the output image is the window's size.
+    #[arg(long, num_args = 4, value_names = ["X0", "X1", "Y0", "Y1"], allow_negative_numbers = true, conflicts_with_all = ["pixelbounds", "reference"])]
+    pub cropwindow: Option<Vec<f64>>,
+    /// Render only pixels X0..X1 by Y0..Y1 (half-open, from the top-left corner); the output
+    /// image is the window's size.
+    #[arg(long, num_args = 4, value_names = ["X0", "X1", "Y0", "Y1"], conflicts_with = "reference")]
+    pub pixelbounds: Option<Vec<u32>>,
+    /// Stream the image to a tev viewer listening at HOST:PORT (tev's default port is 14158).
+    #[arg(long, value_name = "HOST:PORT")]
+    pub display_server: Option<String>,
+    /// Print only warnings and errors (no progress bar, no summary).
+    #[arg(short, long, conflicts_with = "verbose")]
+    pub quiet: bool,
+    /// Also print the settings used before rendering and where the scene was found.
+    #[arg(short, long)]
+    pub verbose: bool,
     /// Extra images written next to the render (photon mapping): `radius` writes
     /// <output>.radius.exr, each pixel's gather radius in the last iteration (scene units).
     #[arg(long, value_enum, value_name = "NAME")]
@@ -97,6 +122,13 @@ impl AovArg {
     }
 }
 
+
+#[derive(Args, Debug, Clone)]
+pub struct InfoArgs {
+    /// The EXR image.
+    pub image: PathBuf,
+}
+
 /// Settings shared by `render` and `converge`; unset ones come from the scene file.
 #[derive(Args, Debug, Clone, Default)]
 pub struct SettingsArgs {
@@ -109,8 +141,8 @@ pub struct SettingsArgs {
     /// Seed of all random numbers (converge: the first of --seeds consecutive seeds).
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
-    /// Worker threads [default: all cores].
-    #[arg(long, value_parser = clap::value_parser!(u64).range(1..=4096), allow_negative_numbers = true)]
+    /// Worker threads [default: all cores] (-t is threads, as in Mitsuba, not a time limit).
+    #[arg(short = 't', long, value_parser = clap::value_parser!(u64).range(1..=4096), allow_negative_numbers = true)]
     pub threads: Option<u64>,
     /// Photon mapping: light paths per iteration [default: scene file, else 200000 for ppm
     /// and one per pixel for sppm].
@@ -410,6 +442,39 @@ mod tests {
     }
 
     #[test]
+    fn conventional_flags() {
+        let r = parse(&["s.yml", "--spp", "16", "-t", "3", "-q"])
+            .unwrap()
+            .render;
+        assert_eq!((r.spp, r.iterations), (Some(16), None));
+        assert_eq!(r.settings.threads, Some(3), "-t is threads (Mitsuba)");
+        assert!(r.quiet && !r.verbose);
+        assert!(parse(&["s.yml", "-v"]).unwrap().render.verbose);
+        let r = parse(&[
+            "s.yml",
+            "--cropwindow",
+            "0.25",
+            "0.5",
+            "0",
+            "1",
+            "--display-server",
+            "localhost:14158",
+        ])
+        .unwrap()
+        .render;
+        assert_eq!(r.cropwindow, Some(vec![0.25, 0.5, 0.0, 1.0]));
+        assert_eq!(r.display_server.as_deref(), Some("localhost:14158"));
+        let r = parse(&["s.yml", "--pixelbounds", "1", "5", "2", "6"])
+            .unwrap()
+            .render;
+        assert_eq!(r.pixelbounds, Some(vec![1, 5, 2, 6]));
+        let Some(Command::Info(i)) = parse(&["info", "a.exr"]).unwrap().command else {
+            panic!("expected info")
+        };
+        assert_eq!(i.image, PathBuf::from("a.exr"));
+    }
+
+    #[test]
     fn bad_values_are_usage_errors() {
         for bad in [
             &["s.yml", "-n", "0"][..],
@@ -428,6 +493,34 @@ mod tests {
             &["s.yml", "-a", "bdpt"],
             &["s.yml", "--error-log", "e.csv"], // needs --reference
             &["s.yml", "--frobnicate"],
+            &["s.yml", "--spp", "4", "-n", "4"],
+            &["s.yml", "--spp", "0"],
+            &["s.yml", "-q", "-v"],
+            &["s.yml", "--cropwindow", "0", "1", "0"],
+            &[
+                "s.yml",
+                "--cropwindow",
+                "0",
+                "1",
+                "0",
+                "1",
+                "--pixelbounds",
+                "0",
+                "1",
+                "0",
+                "1",
+            ],
+            &["s.yml", "--pixelbounds", "0", "1", "0", "-1"],
+            &[
+                "s.yml",
+                "--cropwindow",
+                "0",
+                "1",
+                "0",
+                "1",
+                "--reference",
+                "r.exr",
+            ],
             &[], // no scene
         ] {
             let err = parse(bad).expect_err(&format!("{bad:?} should be rejected"));

@@ -3,6 +3,20 @@
 
 use anyhow::{Context, Result};
 use std::io::Write;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+/// Set by `-q/--quiet`: [`info!`] lines are dropped (warnings and errors still print).
+static QUIET: AtomicBool = AtomicBool::new(false);
+
+/// Silences [`info!`] lines and the progress bar for the rest of the process.
+pub fn set_quiet(quiet: bool) {
+    QUIET.store(quiet, Ordering::Relaxed);
+}
+
+/// True under `-q/--quiet`.
+pub fn quiet() -> bool {
+    QUIET.load(Ordering::Relaxed)
+}
 
 /// `eprintln!` that never panics: with stderr closed a status line has nowhere to go, and the
 /// render must go on and be written regardless.
@@ -10,6 +24,16 @@ macro_rules! status {
     ($($arg:tt)*) => {{
         use std::io::Write as _;
         let _ = writeln!(std::io::stderr(), $($arg)*);
+    }};
+}
+
+/// A [`status!`] line that `-q/--quiet` silences: summaries and progress reports, not
+/// warnings or errors.
+macro_rules! info {
+    ($($arg:tt)*) => {{
+        if !$crate::console::quiet() {
+            status!($($arg)*);
+        }
     }};
 }
 

@@ -10,7 +10,7 @@ use crate::render::{render_loop, Outcome, StopRule};
 use crate::setup;
 use crate::signal::Interrupt;
 use anyhow::{Context, Result};
-use ppm_core::integrator::Renderer;
+use ppm_core::integrator::{Radius, Renderer};
 use std::fmt::Write as _;
 use std::path::PathBuf;
 
@@ -20,20 +20,48 @@ pub struct Run {
     pub algorithm: AlgorithmArg,
     pub seed: u64,
     pub iterations: u64,
+    /// Photon mapping: light paths per iteration and initial radius (None for pt).
+    pub photons: Option<u32>,
+    pub radius: Option<Radius>,
     pub samples: Vec<ErrorSample>,
 }
 
-/// `algorithm,seed,iteration,seconds,relmse,rmse` with one row per sample.
-pub fn csv(runs: &[Run]) -> String {
-    let mut s = String::from("algorithm,seed,iteration,seconds,relmse,rmse\n");
+/// What all runs of a `ppm converge` share, recorded in every CSV row.
+pub struct CsvContext<'a> {
+    pub threads: usize,
+    /// The reference image's path.
+    pub reference: &'a str,
+}
+
+/// The CSV columns: the first six as before, the settings after them (empty photons and
+/// radius for the path tracer).
+pub const CSV_HEADER: &str =
+    "algorithm,seed,iteration,seconds,relmse,rmse,threads,photons,radius,reference";
+
+/// A CSV field, quoted when it holds a comma, quote or line break.
+fn csv_field(s: &str) -> String {
+    if s.contains([',', '"', '\n', '\r']) {
+        format!("\"{}\"", s.replace('"', "\"\""))
+    } else {
+        s.to_string()
+    }
+}
+
+/// [`CSV_HEADER`] and one row per sample.
+pub fn csv(runs: &[Run], context: &CsvContext<'_>) -> String {
+    let mut s = format!("{CSV_HEADER}\n");
+    let reference = csv_field(context.reference);
     for run in runs {
+        let photons = run.photons.map(|p| p.to_string()).unwrap_or_default();
+        let radius = run.radius.map(|r| r.to_string()).unwrap_or_default();
         for sample in &run.samples {
             let _ = writeln!(
                 s,
-                "{},{},{}",
+                "{},{},{},{},{photons},{radius},{reference}",
                 run.algorithm.name(),
                 run.seed,
-                sample.csv_row()
+                sample.csv_row(),
+                context.threads,
             );
         }
     }
@@ -57,6 +85,17 @@ pub fn curves(runs: &[Run]) -> Vec<Curve> {
         }
     }
     curves.into_iter().map(|(_, c)| c).collect()
+}
+
+/// The curves' legend labels with the photon mapping settings: `ppm (200000 photons, r 0.03)`.
+fn labelled(mut curves: Vec<Curve>, runs: &[Run]) -> Vec<Curve> {
+    for curve in &mut curves {
+        let run = runs.iter().find(|r| r.algorithm.name() == curve.label);
+        if let Some((photons, radius)) = run.and_then(|r| r.photons.zip(r.radius)) {
+            curve.label = format!("{} ({photons} photons, r {radius})", curve.label);
+        }
+    }
+    curves
 }
 
 /// Where each algorithm ended: final relMSE (geometric mean, min and max over seeds) and
@@ -139,7 +178,9 @@ pub fn run(args: &ConvergeArgs, interrupt: &Interrupt) -> Result<Outcome> {
     };
     let algorithms = unique(args.algorithm.iter().copied());
     let mut runs = Vec::new();
+    let mut threads = 0;
     setup::with_threads(args.settings.threads, || -> Result<()> {
+        threads = rayon::current_num_threads();
         for &algorithm in &algorithms {
             for seed in (0..args.seeds as u64).map(|k| args.settings.seed + k) {
                 if interrupt.requested() {
@@ -176,10 +217,13 @@ pub fn run(args: &ConvergeArgs, interrupt: &Interrupt) -> Result<Outcome> {
                     totals.iterations,
                     totals.seconds
                 );
+                let ppm = algorithm != AlgorithmArg::Pt;
                 runs.push(Run {
                     algorithm,
                     seed,
                     iterations: totals.iterations,
+                    photons: ppm.then_some(settings.photons),
+                    radius: ppm.then_some(settings.radius),
                     samples: tracker.samples,
                 });
             }
@@ -187,16 +231,28 @@ pub fn run(args: &ConvergeArgs, interrupt: &Interrupt) -> Result<Outcome> {
         Ok(())
     })??;
 
+    let reference_name = args.reference.display().to_string();
+    let context = CsvContext {
+        threads,
+        reference: &reference_name,
+    };
     output::write_atomic(&csv_path, |w| {
-        Ok(std::io::Write::write_all(w, csv(&runs).as_bytes())?)
+        Ok(std::io::Write::write_all(
+            w,
+            csv(&runs, &context).as_bytes(),
+        )?)
     })?;
     let title = format!(
-        "{}: relMSE against render time ({}x{})",
+        "{}: relMSE against render time ({}x{}, {threads} threads, reference {})",
         scene_path.file_stem().unwrap_or_default().to_string_lossy(),
         reference.width,
-        reference.height
+        reference.height,
+        args.reference
+            .file_name()
+            .unwrap_or_default()
+            .to_string_lossy()
     );
-    plot::write_plot(&plot_path, &title, &curves(&runs))?;
+    plot::write_plot(&plot_path, &title, &labelled(curves(&runs), &runs))?;
     status!("wrote {} and {}", csv_path.display(), plot_path.display());
     crate::console::print_stdout(&final_report(&runs))?;
     Ok(if interrupt.requested() {
@@ -221,10 +277,13 @@ mod tests {
                 rmse: e.sqrt(),
             })
             .collect();
+        let ppm = algorithm == AlgorithmArg::Ppm;
         Run {
             algorithm,
             seed,
             iterations: errors.len() as u64,
+            photons: ppm.then_some(1000),
+            radius: ppm.then_some(Radius::World(0.25)),
             samples,
         }
     }
@@ -235,13 +294,22 @@ mod tests {
             run(AlgorithmArg::Pt, 0, &[0.25, 0.0625]),
             run(AlgorithmArg::Ppm, 3, &[1.0]),
         ];
+        let context = CsvContext {
+            threads: 2,
+            reference: "refs/a,b.exr",
+        };
         assert_eq!(
-            csv(&runs),
-            "algorithm,seed,iteration,seconds,relmse,rmse\n\
-             pt,0,1,0.500000,2.500000e-1,5.000000e-1\n\
-             pt,0,2,1.000000,6.250000e-2,2.500000e-1\n\
-             ppm,3,1,0.500000,1.000000e0,1.000000e0\n"
+            csv(&runs, &context),
+            "algorithm,seed,iteration,seconds,relmse,rmse,threads,photons,radius,reference\n\
+             pt,0,1,0.500000,2.500000e-1,5.000000e-1,2,,,\"refs/a,b.exr\"\n\
+             pt,0,2,1.000000,6.250000e-2,2.500000e-1,2,,,\"refs/a,b.exr\"\n\
+             ppm,3,1,0.500000,1.000000e0,1.000000e0,2,1000,0.25,\"refs/a,b.exr\"\n"
         );
+        let labels: Vec<String> = labelled(curves(&runs), &runs)
+            .into_iter()
+            .map(|c| c.label)
+            .collect();
+        assert_eq!(labels, ["pt", "ppm (1000 photons, r 0.25)"]);
     }
 
     #[test]

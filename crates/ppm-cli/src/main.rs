@@ -4,15 +4,22 @@
 #[macro_use]
 mod console;
 mod args;
+mod bare_obj;
+mod black_image;
 mod compare;
 mod converge;
+mod crop;
+mod display;
 mod error_log;
 mod guard;
 mod memory;
+mod info;
 mod output;
 mod plot;
 mod progress;
 mod render;
+mod report;
+mod scene_search;
 mod setup;
 mod signal;
 
@@ -40,6 +47,7 @@ fn run(cli: Cli) -> Result<Outcome> {
     let interrupt = Interrupt::new();
     match cli.command {
         Some(Command::Compare(args)) => compare::run(&args).map(|()| Outcome::Finished),
+        Some(Command::Info(args)) => info::run(&args.image).map(|()| Outcome::Finished),
         Some(Command::Converge(args)) => {
             interrupt.install_handler()?;
             converge::run(&args, &interrupt)

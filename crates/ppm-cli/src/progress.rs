@@ -32,6 +32,9 @@ impl Progress {
             .progress_chars("=> ");
         bar.set_style(style);
         bar.set_prefix(label.to_string());
+        if crate::console::quiet() {
+            bar.set_draw_target(indicatif::ProgressDrawTarget::hidden());
+        }
         Progress { bar, by_time }
     }
 

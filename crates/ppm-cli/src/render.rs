@@ -119,6 +119,8 @@ pub enum Outcome {
 /// `ppm [render] SCENE ...`: checks every input and output path, loads the scene, renders,
 /// writes the PNG and EXR and prints a summary.
 pub fn run(args: &RenderArgs, interrupt: &Interrupt) -> Result<Outcome> {
+    crate::console::set_quiet(args.quiet);
+    let iterations = crate::report::requested_iterations(args)?;
     let scene_arg = args.scene.as_deref().context("no scene file given")?;
     let scene_path = setup::locate_scene(scene_arg)?;
     let paths = output::output_paths(args.output.as_deref(), &scene_path)?;
@@ -154,8 +156,25 @@ pub fn run(args: &RenderArgs, interrupt: &Interrupt) -> Result<Outcome> {
     )?;
     let settings = setup::render_settings(&scene, args.algorithm, &args.settings);
     memory::check(&scene, &settings)?;
+    let camera = &scene.camera;
+    let bounds = crate::crop::pixel_bounds(
+        camera.width,
+        camera.height,
+        args.cropwindow.as_deref(),
+        args.pixelbounds.as_deref(),
+    )?;
+    if args.verbose {
+        status!(
+            "{}",
+            crate::report::verbose_lines(&scene_path, camera.width, camera.height, &bounds)
+        );
+    }
+    let mut preview = args.display_server.as_deref().map(|address| {
+        let name = scene_path.file_stem().unwrap_or_default().to_string_lossy();
+        crate::display::Display::start(address, &format!("ppm {name}"))
+    });
     let stop = StopRule {
-        iterations: args.iterations.or(if args.time_limit.is_some() {
+        iterations: iterations.or(if args.time_limit.is_some() {
             None
         } else {
             Some(DEFAULT_ITERATIONS)
@@ -176,9 +195,19 @@ pub fn run(args: &RenderArgs, interrupt: &Interrupt) -> Result<Outcome> {
         last: Instant::now(),
     });
 
-    let (totals, image, rejected, state_bytes, aovs) =
+    let (totals, image, rejected, state_bytes, aovs, threads) =
         setup::with_threads(args.settings.threads, || -> Result<_> {
-            let mut renderer = Renderer::new(&scene, &settings);
+            if args.verbose {
+                status!(
+                    "{}",
+                    crate::report::settings_line(
+                        &settings,
+                        stop.iterations.unwrap_or(1),
+                        rayon::current_num_threads()
+                    )
+                );
+            }
+            let mut renderer = Renderer::with_bounds(&settings, bounds);
             let progress = Progress::new(&stop, args.algorithm.name());
             let totals = render_loop(
                 &scene,
@@ -198,6 +227,9 @@ pub fn run(args: &RenderArgs, interrupt: &Interrupt) -> Result<Outcome> {
                     if let Some(checkpoints) = &mut checkpoints {
                         checkpoints.maybe_write(renderer, &paths);
                     }
+                    if let Some(preview) = &mut preview {
+                        preview.offer(|| renderer.image());
+                    }
                     Ok(())
                 },
             );
@@ -216,8 +248,12 @@ pub fn run(args: &RenderArgs, interrupt: &Interrupt) -> Result<Outcome> {
                 (renderer.rejected(), renderer.first_rejected()),
                 renderer.memory_bytes(),
                 aovs,
+                rayon::current_num_threads(),
             ))
         })??;
+    if let Some(preview) = preview {
+        preview.finish(image.clone());
+    }
 
     if totals.iterations == 0 {
         // Stopped during loading or the first iteration: an image of no iteration is black,
@@ -231,35 +267,40 @@ pub fn run(args: &RenderArgs, interrupt: &Interrupt) -> Result<Outcome> {
         return Ok(Outcome::Interrupted);
     }
     output::write_outputs(&paths, &image)?;
-    status!("wrote {} and {}", paths.png.display(), paths.exr.display());
+    info!("wrote {} and {}", paths.png.display(), paths.exr.display());
     for (aov, aov_image) in &aovs {
         let path = paths.aov(aov.name());
         output::write_exr(&path, aov_image)?;
-        status!("wrote {}", path.display());
+        info!("wrote {}", path.display());
     }
-    let camera = &scene.camera;
     let (rejected, first_rejected) = rejected;
     let summary = Summary {
-        width: camera.width,
-        height: camera.height,
+        width: bounds.width(),
+        height: bounds.height(),
         algorithm: args.algorithm.name(),
         totals: &totals,
         rejected,
         render_state_bytes: state_bytes,
         peak_rss_bytes: peak_rss_bytes(),
     };
-    status!("{}", summary.line());
-    status!("{}", summary.passes_line());
+    info!("{}", summary.line());
+    info!("{}", summary.passes_line());
+    info!(
+        "{}",
+        crate::report::settings_line(&settings, totals.iterations, threads)
+    );
     if let Some((iteration, pixel)) = first_rejected {
+        // The film's pixel index counts pixels of the crop window.
         status!(
             "first rejected sample: iteration {iteration} (0-based), pixel ({}, {}), seed {}",
-            pixel % camera.width,
-            pixel / camera.width,
+            bounds.x0 + pixel % bounds.width(),
+            bounds.y0 + pixel / bounds.width(),
             args.settings.seed
         );
     }
+    crate::black_image::warn_if_black(&image, &scene_path, &scene, &settings, &totals);
     if let Some(last) = tracker.as_ref().and_then(|t| t.samples.last()) {
-        status!(
+        info!(
             "error against {}: relMSE {:.4e}, RMSE {:.4e}",
             display(args.reference.as_deref()),
             last.rel_mse,

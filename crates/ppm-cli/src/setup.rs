@@ -7,9 +7,10 @@ use ppm_core::integrator::{RenderSettings, MAX_DEPTH};
 use ppm_core::scene::Scene;
 use std::path::{Path, PathBuf};
 
-/// The scene file a command-line argument names, or an error naming every path tried. A path
-/// that exists but is no regular file (a FIFO, /dev/zero, a symbolic-link loop) is reported as
-/// what it is, not as "not found".
+/// The scene file a command-line argument names (searched as described in
+/// [`crate::scene_search`]), or an error naming every path tried. A path that exists but is
+/// no regular file (a FIFO, /dev/zero, a symbolic-link loop) is reported as what it is, not
+/// as "not found".
 pub fn locate_scene(arg: &Path) -> Result<PathBuf> {
     if std::fs::symlink_metadata(arg).is_ok() {
         match std::fs::metadata(arg) {
@@ -22,22 +23,24 @@ pub fn locate_scene(arg: &Path) -> Result<PathBuf> {
             Ok(_) => {}
         }
     }
-    let path = ppm_scene::resolve_scene_path(arg);
-    if path.is_file() {
+    let folders = crate::scene_search::default_search_folders();
+    if let Some(path) = crate::scene_search::find(arg, &folders) {
+        if crate::bare_obj::is_obj(&path) {
+            bail!("{}", crate::bare_obj::refusal(&path));
+        }
         return Ok(path);
     }
-    let in_scenes = Path::new("scenes").join(arg);
-    if path.is_dir() {
-        bail!("scene {} is a folder, not a scene file", path.display());
+    if arg.is_dir() {
+        bail!("scene {} is a folder, not a scene file", arg.display());
     }
-    if in_scenes == arg {
-        bail!("scene file {} not found", arg.display());
-    }
+    let tried: Vec<String> = crate::scene_search::candidates(arg, &folders)
+        .iter()
+        .map(|p| p.display().to_string())
+        .collect();
     bail!(
-        "scene file {} not found (tried {} and {})",
+        "scene file {} not found (tried {}; PPM_SCENES can name more folders)",
         arg.display(),
-        arg.display(),
-        in_scenes.display()
+        tried.join(", ")
     )
 }
 

@@ -326,7 +326,8 @@ fn converge_writes_csv_and_plot() {
     let mut lines = csv.lines();
     assert_eq!(
         lines.next(),
-        Some("algorithm,seed,iteration,seconds,relmse,rmse")
+        Some("algorithm,seed,iteration,seconds,relmse,rmse,threads,photons,radius,reference"),
+        "the first six columns as before, the settings after them"
     );
     let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
     for (algorithm, seed) in [("pt", "0"), ("pt", "1"), ("ppm", "0"), ("ppm", "1")] {

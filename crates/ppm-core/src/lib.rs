@@ -40,6 +40,7 @@ pub mod light;
 pub mod material;
 pub mod metrics;
 pub mod photon;
+pub mod pixel_bounds;
 pub mod sampling;
 pub mod scene;
 mod simd;

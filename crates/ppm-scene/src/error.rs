@@ -89,9 +89,49 @@ impl LoadError {
             path: path.to_path_buf(),
             line,
             column,
-            message,
+            message: shorten_quotes(&message),
         }
     }
+}
+
+/// Longest piece of the input that a message quotes, in characters.
+const MAX_QUOTE: usize = 60;
+
+/// `message` with every quoted string (`"..."`, with `\` escapes, as serde quotes values)
+/// cut to [`MAX_QUOTE`] characters and its first line: serde_yaml quotes the offending value
+/// whole, and a file that is not YAML (an OBJ) is one 40 KB string to it.
+fn shorten_quotes(message: &str) -> String {
+    let mut out = String::with_capacity(message.len().min(512));
+    let mut chars = message.chars();
+    while let Some(c) = chars.next() {
+        out.push(c);
+        if c != '"' {
+            continue;
+        }
+        // Inside a quote: copy up to MAX_QUOTE characters of its first line.
+        let (mut kept, mut cut) = (0, false);
+        while let Some(c) = chars.next() {
+            if c == '"' {
+                break;
+            }
+            let escaped = if c == '\\' { chars.next() } else { None };
+            if escaped == Some('n') || c == '\n' {
+                cut = true;
+            }
+            if !cut && kept < MAX_QUOTE {
+                out.push(c);
+                out.extend(escaped);
+                kept += 1;
+            } else {
+                cut = true;
+            }
+        }
+        if cut {
+            out.push_str("...");
+        }
+        out.push('"');
+    }
+    out
 }
 
 /// `file`, `file:line` or `file:line:column`.
@@ -107,5 +147,32 @@ impl fmt::Display for Place<'_> {
             }
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn quotes_are_cut_to_one_short_line() {
+        let short = r#"invalid type: string "a \"b\"", expected a sequence"#;
+        assert_eq!(shorten_quotes(short), short);
+        let long = format!(
+            "invalid type: string \"{}\", expected x",
+            "v 1 2 3 ".repeat(100)
+        );
+        let cut = shorten_quotes(&long);
+        assert_eq!(
+            cut,
+            format!(
+                "invalid type: string \"{}...\", expected x",
+                &"v 1 2 3 ".repeat(8)[..60]
+            )
+        );
+        assert_eq!(
+            shorten_quotes(r#"unknown "first\nsecond" here"#),
+            r#"unknown "first..." here"#
+        );
     }
 }

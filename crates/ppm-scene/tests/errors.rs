@@ -429,6 +429,18 @@ fn odd_documents_are_errors() {
 }
 
 #[test]
+fn a_non_yaml_file_is_quoted_by_one_short_line() {
+    // An OBJ read as a scene: YAML folds its lines into one 40 KB string.
+    let obj: String = (0..2000)
+        .map(|i| format!("v {i} 0.5 0.25\n"))
+        .chain((1..1000).map(|i| format!("f {i} {} {}\n", i + 1, i + 2)))
+        .collect();
+    let msg = error(&obj);
+    has(&msg, &["dir/bad.yml", "invalid type", "\"v 0 0.5 0.25"]);
+    assert!(msg.lines().count() == 1 && msg.len() < 200, "{msg}");
+}
+
+#[test]
 fn warnings_for_suspicious_but_valid_scenes() {
     let dark = valid_with("emission: [10, 10, 10]", "emission: [0, 0, 0]");
     let (_, warnings) = parse_scene(&dark, Path::new("dir/dark.yml")).unwrap();

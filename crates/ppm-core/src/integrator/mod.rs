@@ -37,6 +37,7 @@ pub use shading::ShadingFrame;
 pub use sppm::{PixelStatistics, SplatPoint, SppmRenderer};
 
 use crate::film::Image;
+use crate::pixel_bounds::PixelBounds;
 use crate::scene::Scene;
 
 /// What one iteration did, for progress and speed reports.
@@ -117,10 +118,21 @@ pub enum Renderer {
 impl Renderer {
     /// A fresh render of `scene` with `settings` (uses the current rayon thread pool).
     pub fn new(scene: &Scene, settings: &RenderSettings) -> Self {
+        let (w, h) = (scene.camera.width, scene.camera.height);
+        Self::with_bounds(settings, PixelBounds::full(w, h))
+    }
+
+    /// A render of the pixels in `bounds` only (a crop window of the camera's image): the
+    /// image is `bounds`' size and each pixel equals the full render's at the same seed.
+    pub fn with_bounds(settings: &RenderSettings, bounds: PixelBounds) -> Self {
         match settings.algorithm {
-            Algorithm::Path => Renderer::Path(PathTracer::new(scene, settings.clone())),
-            Algorithm::Ppm => Renderer::Ppm(Box::new(PpmRenderer::new(scene, settings.clone()))),
-            Algorithm::Sppm => Renderer::Sppm(Box::new(SppmRenderer::new(scene, settings.clone()))),
+            Algorithm::Path => Renderer::Path(PathTracer::with_bounds(settings.clone(), bounds)),
+            Algorithm::Ppm => {
+                Renderer::Ppm(Box::new(PpmRenderer::with_bounds(settings.clone(), bounds)))
+            }
+            Algorithm::Sppm => {
+                Renderer::Sppm(Box::new(SppmRenderer::with_bounds(settings.clone(), bounds)))
+            }
         }
     }
 

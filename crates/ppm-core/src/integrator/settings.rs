@@ -58,6 +58,16 @@ pub enum Radius {
     Auto,
 }
 
+impl std::fmt::Display for Radius {
+    /// As the command line and the scene format spell it: the radius in scene units, or `auto`.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Radius::World(r) => write!(f, "{r}"),
+            Radius::Auto => f.write_str("auto"),
+        }
+    }
+}
+
 /// Everything the user can set for one render.
 #[derive(Clone, Debug)]
 pub struct RenderSettings {

@@ -11,6 +11,7 @@ use super::{
     MAX_DEPTH,
 };
 use crate::film::Film;
+use crate::pixel_bounds::PixelBounds;
 use crate::sampling::Rng;
 use crate::scene::Scene;
 use glam::{Vec2, Vec3};
@@ -25,6 +26,8 @@ const TILE_ROWS: usize = 4;
 pub struct PathTracer {
     settings: RenderSettings,
     film: Film,
+    /// The pixels rendered (the whole image unless cropped).
+    bounds: PixelBounds,
     /// One estimate per pixel for the current iteration, reused.
     estimates: Vec<Vec3>,
 }
@@ -32,13 +35,19 @@ pub struct PathTracer {
 impl PathTracer {
     /// A fresh render; `max_depth` is clamped to [`MAX_DEPTH`].
     pub fn new(scene: &Scene, settings: RenderSettings) -> Self {
+        let (w, h) = (scene.camera.width, scene.camera.height);
+        Self::with_bounds(settings, PixelBounds::full(w, h))
+    }
+
+    /// A fresh render of the pixels in `bounds` only (see [`PixelBounds`]).
+    pub fn with_bounds(settings: RenderSettings, bounds: PixelBounds) -> Self {
         let mut settings = settings;
         settings.max_depth = settings.max_depth.min(MAX_DEPTH);
-        let (w, h) = (scene.camera.width, scene.camera.height);
         PathTracer {
             settings,
-            film: Film::new(w, h),
-            estimates: vec![Vec3::ZERO; (w * h) as usize],
+            film: Film::new(bounds.width(), bounds.height()),
+            bounds,
+            estimates: vec![Vec3::ZERO; bounds.len()],
         }
     }
 
@@ -73,10 +82,11 @@ impl PathTracer {
         let width = scene.camera.width as usize;
         let settings = &self.settings;
         let abandoned = AtomicBool::new(false);
+        let bounds = self.bounds;
         let mut clock = Stopwatch::start();
         let counters = self
             .estimates
-            .par_chunks_mut(width * TILE_ROWS)
+            .par_chunks_mut(bounds.width() as usize * TILE_ROWS)
             .enumerate()
             .map(|(tile, rows)| {
                 let mut counters = RayCounters::default();
@@ -85,7 +95,7 @@ impl PathTracer {
                     return counters;
                 }
                 for (i, out) in rows.iter_mut().enumerate() {
-                    let pixel = tile * width * TILE_ROWS + i;
+                    let pixel = bounds.full_index(tile * bounds.width() as usize * TILE_ROWS + i);
                     let mut rng = Rng::new(settings.seed, iteration, pixel as u64);
                     let film =
                         Vec2::new((pixel % width) as f32, (pixel / width) as f32) + rng.uniform2();

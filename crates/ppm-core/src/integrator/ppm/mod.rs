@@ -38,6 +38,7 @@ use super::{
 };
 use crate::film::{Film, Image};
 use crate::photon::{HashGrid, Kernel, PhotonBuffer};
+use crate::pixel_bounds::PixelBounds;
 use crate::scene::Scene;
 use eye_pass::trace_eye_path;
 use glam::Vec3;
@@ -67,6 +68,9 @@ struct PixelRadii {
 pub struct PpmRenderer {
     settings: RenderSettings,
     film: Film,
+    /// The pixels rendered (the whole image unless cropped); photons are traced for the
+    /// whole scene either way, keyed by light path, so a crop changes no pixel.
+    bounds: PixelBounds,
     /// The radius of the iteration (`Radius::World`), or the factor s_i by which every
     /// pixel's radius has shrunk (`Radius::Auto`, started at 1).
     schedule: RadiusSchedule,
@@ -84,10 +88,15 @@ impl PpmRenderer {
     /// A fresh render. The number of light paths is capped at [`MAX_LIGHT_PATHS`] and
     /// `max_depth` at [`MAX_DEPTH`].
     pub fn new(scene: &Scene, settings: RenderSettings) -> Self {
+        let (w, h) = (scene.camera.width, scene.camera.height);
+        Self::with_bounds(settings, PixelBounds::full(w, h))
+    }
+
+    /// A fresh render of the pixels in `bounds` only (see [`PixelBounds`]).
+    pub fn with_bounds(settings: RenderSettings, bounds: PixelBounds) -> Self {
         let mut settings = settings;
         settings.photons = settings.photons.clamp(1, MAX_LIGHT_PATHS);
         settings.max_depth = settings.max_depth.min(MAX_DEPTH);
-        let (w, h) = (scene.camera.width, scene.camera.height);
         // Grown on demand when a scene stores more photons per path.
         let capacity = settings.photons as usize * PHOTONS_PER_PATH;
         let start = match settings.radius {
@@ -99,10 +108,11 @@ impl PpmRenderer {
             pixel_radii: None,
             last_scale: None,
             settings,
-            film: Film::new(w, h),
+            film: Film::new(bounds.width(), bounds.height()),
+            bounds,
             photons: PhotonBuffer::with_capacity(capacity),
             grid: HashGrid::new(),
-            estimates: vec![Vec3::ZERO; (w * h) as usize],
+            estimates: vec![Vec3::ZERO; bounds.len()],
         }
     }
 
@@ -219,6 +229,7 @@ impl PpmRenderer {
         let settings = &self.settings;
         let abandoned = AtomicBool::new(false);
         let pixel_radii = self.pixel_radii.as_ref().map(|p| &p.initial[..]);
+        let bounds = self.bounds;
         let eye = self
             .estimates
             .par_chunks_mut(PIXELS_PER_TASK)
@@ -230,7 +241,7 @@ impl PpmRenderer {
                     return counters;
                 }
                 for (i, out) in pixels.iter_mut().enumerate() {
-                    let pixel = task * PIXELS_PER_TASK + i;
+                    let pixel = bounds.full_index(task * PIXELS_PER_TASK + i);
                     // This pixel's radius r_1(p) s_i, and its kernel.
                     let own;
                     let ctx = match pixel_radii {
@@ -308,8 +319,8 @@ impl PpmRenderer {
         match &self.pixel_radii {
             None => image.pixels.fill(Vec3::splat(scale)),
             Some(p) => {
-                for (out, r1) in image.pixels.iter_mut().zip(&p.initial) {
-                    *out = Vec3::splat(r1 * scale);
+                for (local, out) in image.pixels.iter_mut().enumerate() {
+                    *out = Vec3::splat(p.initial[self.bounds.full_index(local)] * scale);
                 }
             }
         }

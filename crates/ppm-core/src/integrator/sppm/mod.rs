@@ -30,6 +30,7 @@ use super::{
     PhotonCounters, Radius, RenderSettings, Stopwatch, MAX_LIGHT_PATHS,
 };
 use crate::film::{Film, Image};
+use crate::pixel_bounds::PixelBounds;
 use crate::scene::Scene;
 use glam::Vec3;
 use rayon::prelude::*;
@@ -47,6 +48,9 @@ const COARSER: f64 = 65_536.0;
 /// pixel (the grid at most eight); none grows with the photons per iteration.
 pub struct SppmRenderer {
     settings: RenderSettings,
+    /// The pixels rendered (the whole image unless cropped); every per-pixel buffer is the
+    /// window's size, and photons splat only into its visible points.
+    bounds: PixelBounds,
     /// Emission and sampled direct light of the camera paths, averaged over iterations.
     direct: Film,
     /// This iteration's camera-path radiance per pixel, before it joins `direct`.
@@ -72,10 +76,17 @@ impl SppmRenderer {
     /// the first iteration's pilot pass: [`pilot_radii`], shared with `ppm`). The number of light
     /// paths per iteration is capped at [`MAX_LIGHT_PATHS`].
     pub fn new(scene: &Scene, settings: RenderSettings) -> Self {
+        let (w, h) = (scene.camera.width, scene.camera.height);
+        Self::with_bounds(settings, PixelBounds::full(w, h))
+    }
+
+    /// A fresh render of the pixels in `bounds` only (see [`PixelBounds`]): each pixel's camera
+    /// paths and photons are those of the full render, so a crop changes no pixel.
+    pub fn with_bounds(settings: RenderSettings, bounds: PixelBounds) -> Self {
         let mut settings = settings;
         settings.photons = settings.photons.clamp(1, MAX_LIGHT_PATHS);
-        let (w, h) = (scene.camera.width, scene.camera.height);
-        let pixels = (w * h) as usize;
+        let (w, h) = (bounds.width(), bounds.height());
+        let pixels = bounds.len();
         let (radius, radii_pending) = match settings.radius {
             Radius::World(r) => (r, false),
             Radius::Auto => (0.0, true),
@@ -91,6 +102,7 @@ impl SppmRenderer {
             image: vec![Vec3::ZERO; pixels],
             rejected: 0,
             radii_pending,
+            bounds,
             settings,
         }
     }
@@ -208,8 +220,8 @@ impl SppmRenderer {
         if self.radii_pending {
             let s = &self.settings;
             let radii = pilot_radii(scene, s.seed, s.max_depth, s.rr_depth, &mut pilot);
-            for (statistics, r) in self.statistics.iter_mut().zip(radii) {
-                *statistics = PixelStatistics::new(r);
+            for (local, statistics) in self.statistics.iter_mut().enumerate() {
+                *statistics = PixelStatistics::new(radii[self.bounds.full_index(local)]);
             }
             self.radii_pending = false;
         }
@@ -218,6 +230,7 @@ impl SppmRenderer {
         let width = scene.camera.width as usize;
         let settings = &self.settings;
         let statistics = &self.statistics;
+        let bounds = self.bounds;
         let abandoned = AtomicBool::new(false);
         let camera = self
             .direct_estimates
@@ -231,10 +244,11 @@ impl SppmRenderer {
                     return counters;
                 }
                 for (i, (ld, vp)) in ld.iter_mut().zip(points).enumerate() {
-                    let pixel = task * PIXELS_PER_TASK + i;
+                    let local = task * PIXELS_PER_TASK + i;
+                    let pixel = bounds.full_index(local);
                     let (l, mut point) =
                         trace_camera_path(scene, settings, iteration, pixel, width, &mut counters);
-                    point.r2 = statistics[pixel].r2 as f32;
+                    point.r2 = statistics[local].r2 as f32;
                     *ld = l;
                     *vp = point;
                 }

@@ -1,0 +1,248 @@
+//! Why an image came out black: checked after a render whose mean is (nearly) zero, so that a
+//! lamp facing the wrong way is not a silent black picture.
+//!
+//! An area light emits only on the side its geometric normal points to: for a quad that is
+//! `cross(edge_u, edge_v)`, for an OBJ face `cross(v1 - v0, v2 - v0)` (counter-clockwise
+//! winding seen from the lit side). A light none of whose triangles has any other geometry in
+//! front of its plane lights nothing.
+
+use crate::render::LoopTotals;
+use ppm_core::film::Image;
+use ppm_core::integrator::{Algorithm, RenderSettings};
+use ppm_core::scene::{Scene, SceneBuilder};
+use ppm_core::{Vec2, Vec3};
+use std::path::Path;
+
+/// An image whose mean (of its brightest channel) is below this is "nearly black".
+pub const NEARLY_BLACK: f32 = 1e-4;
+/// At most this many triangles of one light are checked (the check is only a diagnosis).
+const MAX_CHECKED_TRIANGLES: usize = 4096;
+
+/// An emissive material all of whose (checked) triangles face away from all other geometry.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FacingAway {
+    /// The material's name (`materials.NAME` in the scene file, or an MTL material).
+    pub material: String,
+    pub triangles: usize,
+    /// The emission direction of its first triangle (unit length).
+    pub direction: Vec3,
+}
+
+/// The emissive materials whose triangles all have every other triangle vertex and sphere of
+/// the scene behind (or in) their plane, so that they light nothing.
+pub fn lights_facing_away(builder: &SceneBuilder) -> Vec<FacingAway> {
+    let emits = |m: u32| {
+        builder
+            .materials
+            .get(m as usize)
+            .is_some_and(|m| m.is_emissive())
+    };
+    // Every point of other geometry that a light could shine on: vertices of non-emissive
+    // triangles; spheres are tested by their centre and radius.
+    let points: Vec<Vec3> = builder
+        .meshes
+        .iter()
+        .flat_map(|mesh| {
+            mesh.indices
+                .iter()
+                .zip(&mesh.materials)
+                .filter(|(_, m)| !emits(**m))
+                .flat_map(|(tri, _)| tri.iter().map(|&i| mesh.positions[i as usize]))
+        })
+        .collect();
+    let (lo, hi) = points.iter().fold(
+        (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
+        |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+    );
+    let eps = 1e-5 * (hi - lo).length().max(1e-3);
+
+    let mut found: Vec<(u32, FacingAway, bool)> = Vec::new(); // (material, report, all away)
+    for mesh in &builder.meshes {
+        for (tri, &m) in mesh.indices.iter().zip(&mesh.materials) {
+            if !emits(m) {
+                continue;
+            }
+            let [a, b, c] = tri.map(|i| mesh.positions[i as usize]);
+            let n = (b - a).cross(c - a).normalize_or_zero();
+            if n == Vec3::ZERO {
+                continue;
+            }
+            let entry = match found.iter_mut().position(|(fm, _, _)| *fm == m) {
+                Some(i) => &mut found[i],
+                None => {
+                    found.push((
+                        m,
+                        FacingAway {
+                            material: builder.materials[m as usize].name.clone(),
+                            triangles: 0,
+                            direction: n,
+                        },
+                        true,
+                    ));
+                    found.last_mut().unwrap()
+                }
+            };
+            if !entry.2 || entry.1.triangles >= MAX_CHECKED_TRIANGLES {
+                continue;
+            }
+            entry.1.triangles += 1;
+            let in_front = points.iter().any(|p| (*p - a).dot(n) > eps)
+                || builder
+                    .spheres
+                    .iter()
+                    .any(|s| (s.center - a).dot(n) + s.radius.abs() > eps);
+            if in_front {
+                entry.2 = false;
+            }
+        }
+    }
+    found
+        .into_iter()
+        .filter(|(_, _, away)| *away)
+        .map(|(_, f, _)| f)
+        .collect()
+}
+
+/// True if no primary ray through a 16 x 16 grid of image positions hits anything.
+fn camera_sees_nothing(scene: &Scene) -> bool {
+    let (w, h) = (scene.camera.width as f32, scene.camera.height as f32);
+    !(0..16).any(|j| {
+        (0..16).any(|i| {
+            let film = Vec2::new((i as f32 + 0.5) * w / 16.0, (j as f32 + 0.5) * h / 16.0);
+            scene.intersect(&scene.camera.generate_ray(film)).is_some()
+        })
+    })
+}
+
+/// What the render saw, for [`explain`].
+pub struct RenderFacts<'a> {
+    pub scene_path: &'a Path,
+    pub scene: &'a Scene,
+    /// The scene's parts (for light names), if the file could be read again.
+    pub builder: Option<&'a SceneBuilder>,
+    pub photon_mapping: bool,
+    /// Light paths traced and photons stored over the whole render (photon mapping).
+    pub light_paths: u64,
+    pub photons: u64,
+}
+
+/// Reasons why `image` is black or nearly so, one line each; empty when it is not black.
+pub fn explain(image: &Image, facts: &RenderFacts<'_>) -> Vec<String> {
+    let mean = image.mean().max_element();
+    if !(mean < NEARLY_BLACK) {
+        return Vec::new();
+    }
+    let file = facts.scene_path.display();
+    let mut lines = vec![if mean == 0.0 {
+        "the image is black (every pixel is 0)".to_string()
+    } else {
+        format!("the image is nearly black (mean {mean:.3e})")
+    }];
+    if facts.scene.lights.is_empty() {
+        lines.push(format!(
+            "{file} has no light: no material has `emission` and there is no point light"
+        ));
+        return lines;
+    }
+    if let Some(builder) = facts.builder {
+        for f in lights_facing_away(builder) {
+            let d = f.direction;
+            lines.push(format!(
+                "light `{}` in {file} ({} triangle{}) emits away from all other geometry: \
+                 its emission direction cross(edge_u, edge_v) is ({:.3}, {:.3}, {:.3}); \
+                 swap edge_u and edge_v (a quad) or the vertex order (an OBJ face) to turn it",
+                f.material,
+                f.triangles,
+                if f.triangles == 1 { "" } else { "s" },
+                d.x,
+                d.y,
+                d.z
+            ));
+        }
+    }
+    if camera_sees_nothing(facts.scene) {
+        lines.push("no camera ray hits any geometry: the camera looks away from the scene".into());
+    }
+    if facts.photon_mapping {
+        if facts.photons == 0 {
+            lines.push(format!(
+                "none of the {} light paths stored a photon: no light reached a diffuse surface",
+                facts.light_paths
+            ));
+        } else {
+            lines.push(format!(
+                "{} photons were stored, but the camera's gather points found almost none: \
+                 the lit surfaces are out of view, or the radius is too small",
+                facts.photons
+            ));
+        }
+    } else {
+        lines.push("no camera path reached a light".into());
+    }
+    lines
+}
+
+/// Prints why `image` is black as warnings, if it is. The scene file is read again for the
+/// lights' names (only then: a black image is rare and reading is cheap next to rendering).
+pub fn warn_if_black(
+    image: &Image,
+    scene_path: &Path,
+    scene: &Scene,
+    settings: &RenderSettings,
+    totals: &LoopTotals,
+) {
+    if !(image.mean().max_element() < NEARLY_BLACK) {
+        return;
+    }
+    let builder = ppm_scene::load_scene_builder(scene_path).ok().map(|b| b.0);
+    let facts = RenderFacts {
+        scene_path,
+        scene,
+        builder: builder.as_ref(),
+        photon_mapping: settings.algorithm == Algorithm::Ppm,
+        light_paths: totals.light_paths,
+        photons: totals.photons,
+    };
+    for line in explain(image, &facts) {
+        status!("warning: {line}");
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use ppm_core::prelude::*;
+
+    /// A floor quad, and a lamp quad above it facing down (`flipped`: up).
+    fn floor_and_lamp(flipped: bool) -> SceneBuilder {
+        let camera =
+            Camera::new(Vec3::new(0.0, 1.0, 3.0), Vec3::ZERO, Vec3::Y, 40.0, (8, 8)).unwrap();
+        let mut b = SceneBuilder::new(camera);
+        let white = b.add_material(Material::new(Bsdf::diffuse(Vec3::splat(0.7)), Vec3::ZERO));
+        let lamp = b
+            .add_material(Material::new(Bsdf::diffuse(Vec3::ZERO), Vec3::splat(5.0)).named("lamp"));
+        b.add_mesh(TriangleMesh::quad(
+            Vec3::new(-1.0, 0.0, -1.0),
+            Vec3::new(0.0, 0.0, 2.0),
+            Vec3::new(2.0, 0.0, 0.0),
+            white,
+        ));
+        let (u, v) = (Vec3::new(0.5, 0.0, 0.0), Vec3::new(0.0, 0.0, 0.5));
+        let (u, v) = if flipped { (v, u) } else { (u, v) };
+        b.add_mesh(TriangleMesh::quad(Vec3::new(-0.25, 1.5, -0.25), u, v, lamp));
+        b
+    }
+
+    #[test]
+    fn a_flipped_lamp_is_named() {
+        assert_eq!(lights_facing_away(&floor_and_lamp(false)), []);
+        let away = lights_facing_away(&floor_and_lamp(true));
+        assert_eq!(away.len(), 1);
+        assert_eq!((away[0].material.as_str(), away[0].triangles), ("lamp", 2));
+        assert!((away[0].direction - Vec3::Y).length() < 1e-6);
+        // A sphere above the flipped lamp is lit by it.
+        let mut b = floor_and_lamp(true);
+        b.add_sphere(Sphere::new(Vec3::new(0.0, 3.0, 0.0), 0.5, 0));
+        assert_eq!(lights_facing_away(&b), []);
+    }
+}
