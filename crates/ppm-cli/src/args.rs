@@ -122,7 +122,6 @@ impl AovArg {
     }
 }
 
-
 #[derive(Args, Debug, Clone)]
 pub struct InfoArgs {
     /// The EXR image.

@@ -129,7 +129,8 @@ pub struct RenderFacts<'a> {
 /// Reasons why `image` is black or nearly so, one line each; empty when it is not black.
 pub fn explain(image: &Image, facts: &RenderFacts<'_>) -> Vec<String> {
     let mean = image.mean().max_element();
-    if !(mean < NEARLY_BLACK) {
+    // A NaN mean is not black: it is reported elsewhere (rejected samples).
+    if mean.is_nan() || mean >= NEARLY_BLACK {
         return Vec::new();
     }
     let file = facts.scene_path.display();
@@ -191,7 +192,8 @@ pub fn warn_if_black(
     settings: &RenderSettings,
     totals: &LoopTotals,
 ) {
-    if !(image.mean().max_element() < NEARLY_BLACK) {
+    let mean = image.mean().max_element();
+    if mean.is_nan() || mean >= NEARLY_BLACK {
         return;
     }
     let builder = ppm_scene::load_scene_builder(scene_path).ok().map(|b| b.0);

@@ -108,7 +108,7 @@ mod tests {
             rr_depth: 3,
             light_strategy: LightStrategy::Mis,
             photons: 1000,
-            radius: 0.04,
+            radius: Radius::World(0.04),
             alpha: 0.5,
             direct: DirectMode::Sampled,
         }

@@ -36,7 +36,7 @@ fn sppm_furnace_converges_to_five() {
         let settings = RenderSettings {
             max_depth: 100_000,
             photons: 5_000,
-            radius: 0.05,
+            radius: ppm_core::integrator::Radius::World(0.05),
             direct,
             seed: 100,
             ..RenderSettings::for_algorithm(&scene, Algorithm::Sppm)
@@ -85,7 +85,7 @@ fn radii_shrink_only_where_photons_arrive() {
     let scene = cornell(8, BoxContents::Diffuse);
     let settings = RenderSettings {
         photons: 20_000,
-        radius: 0.05,
+        radius: ppm_core::integrator::Radius::World(0.05),
         ..RenderSettings::for_algorithm(&scene, Algorithm::Sppm)
     };
     let mut r = SppmRenderer::new(&scene, settings);

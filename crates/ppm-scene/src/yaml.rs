@@ -5,8 +5,8 @@
 //! of errors inside them. Which fields a type takes is checked afterwards in `build.rs`.
 
 use crate::values::{
-    Alpha, Count, Depth, FieldOfView, GatherRadius, NonNegative, Num, Point, Positive,
-    Reflectance, Resolution, Triple,
+    Alpha, Count, Depth, FieldOfView, GatherRadius, NonNegative, Num, Point, Positive, Reflectance,
+    Resolution, Triple,
 };
 use serde::de::{self, DeserializeSeed, Deserializer, MapAccess, Visitor};
 use serde::Deserialize;

@@ -130,9 +130,10 @@ impl Renderer {
             Algorithm::Ppm => {
                 Renderer::Ppm(Box::new(PpmRenderer::with_bounds(settings.clone(), bounds)))
             }
-            Algorithm::Sppm => {
-                Renderer::Sppm(Box::new(SppmRenderer::with_bounds(settings.clone(), bounds)))
-            }
+            Algorithm::Sppm => Renderer::Sppm(Box::new(SppmRenderer::with_bounds(
+                settings.clone(),
+                bounds,
+            ))),
         }
     }
 

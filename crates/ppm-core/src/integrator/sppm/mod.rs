@@ -34,8 +34,8 @@ use crate::pixel_bounds::PixelBounds;
 use crate::scene::Scene;
 use glam::Vec3;
 use rayon::prelude::*;
-use std::sync::atomic::{AtomicBool, Ordering};
 use splat::{SplatCounters, Splatter};
+use std::sync::atomic::{AtomicBool, Ordering};
 
 /// Light paths per parallel work item of the photon pass.
 const PATHS_PER_TASK: u32 = 512;
