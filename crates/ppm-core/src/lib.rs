@@ -43,7 +43,7 @@ pub mod photon;
 pub mod sampling;
 pub mod scene;
 
-pub use error::SceneError;
+pub use error::{SceneError, StateError};
 pub use glam::{Vec2, Vec3};
 
 /// The types most programs need, in one import.

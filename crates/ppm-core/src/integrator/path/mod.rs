@@ -5,10 +5,11 @@
 
 mod tracer;
 
-use super::{IterationStats, PassTimes, RenderSettings, Stopwatch};
+use super::{IterationStats, PassTimes, RenderSettings, Snapshot, Stopwatch};
 use crate::film::Film;
 use crate::sampling::Rng;
 use crate::scene::Scene;
+use crate::StateError;
 use glam::{Vec2, Vec3};
 use rayon::prelude::*;
 
@@ -37,13 +38,37 @@ impl PathTracer {
         }
     }
 
+    /// A render continuing from `snapshot`: the path tracer carries nothing but the film
+    /// between iterations, and iteration i's paths depend on (seed, i, pixel) alone.
+    pub fn from_snapshot(
+        scene: &Scene,
+        settings: RenderSettings,
+        snapshot: Snapshot,
+    ) -> Result<Self, StateError> {
+        let (w, h) = (scene.camera.width, scene.camera.height);
+        snapshot.check_film_only(w, h)?;
+        Ok(PathTracer {
+            settings,
+            film: snapshot.film,
+            estimates: vec![Vec3::ZERO; (w * h) as usize],
+        })
+    }
+
+    /// What [`PathTracer::from_snapshot`] needs to continue: the film.
+    pub fn snapshot(&self) -> Snapshot {
+        Snapshot {
+            film: self.film.clone(),
+            pixels: Vec::new(),
+        }
+    }
+
     /// Traces one path through every pixel and adds the result to the film.
     ///
     /// The pixel estimate is a box-filtered one: a uniformly jittered position in the pixel.
     /// Random streams are keyed by (seed, iteration, pixel), so the image does not depend on
     /// the number of threads.
     pub fn iterate(&mut self, scene: &Scene) -> IterationStats {
-        let iteration = self.film.iterations();
+        let iteration = self.film.next_iteration();
         let width = scene.camera.width as usize;
         let settings = &self.settings;
         let mut clock = Stopwatch::start();
@@ -94,6 +119,6 @@ impl PathTracer {
 
     /// Bytes held by the render state.
     pub fn memory_bytes(&self) -> usize {
-        self.estimates.len() * (std::mem::size_of::<Vec3>() + 3 * std::mem::size_of::<f64>())
+        self.estimates.len() * std::mem::size_of::<Vec3>() + self.film.memory_bytes()
     }
 }

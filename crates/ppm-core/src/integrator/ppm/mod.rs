@@ -15,10 +15,11 @@ pub use eye_pass::{density_estimate, GatherContext};
 pub use photon_pass::{stores_photons, trace_light_path, MAX_LIGHT_PATHS};
 pub use radius::RadiusSchedule;
 
-use super::{IterationStats, PassTimes, RenderSettings, Stopwatch};
+use super::{IterationStats, PassTimes, RenderSettings, Snapshot, Stopwatch};
 use crate::film::Film;
 use crate::photon::{HashGrid, Kernel, PhotonBuffer};
 use crate::scene::Scene;
+use crate::StateError;
 use eye_pass::{trace_eye_path, EyeCounters};
 use glam::Vec3;
 use photon_pass::PhotonCounters;
@@ -43,15 +44,46 @@ pub struct PpmRenderer {
 impl PpmRenderer {
     /// A fresh render. The number of light paths is capped at [`MAX_LIGHT_PATHS`].
     pub fn new(scene: &Scene, settings: RenderSettings) -> Self {
+        let (w, h) = (scene.camera.width, scene.camera.height);
+        Self::with_film(scene, settings, Film::new(w, h))
+    }
+
+    /// A render continuing from `snapshot`. Knaus and Zwicker's PPM carries nothing but the
+    /// film between iterations: iteration i's photons and eye paths depend on (seed, i) and
+    /// its radius on i alone, so the schedule restarts at the snapshot's next iteration.
+    pub fn from_snapshot(
+        scene: &Scene,
+        settings: RenderSettings,
+        snapshot: Snapshot,
+    ) -> Result<Self, StateError> {
+        snapshot.check_film_only(scene.camera.width, scene.camera.height)?;
+        Ok(Self::with_film(scene, settings, snapshot.film))
+    }
+
+    /// What [`PpmRenderer::from_snapshot`] needs to continue: the film.
+    pub fn snapshot(&self) -> Snapshot {
+        Snapshot {
+            film: self.film.clone(),
+            pixels: Vec::new(),
+        }
+    }
+
+    /// A render whose next iteration is `film.next_iteration()`.
+    fn with_film(scene: &Scene, settings: RenderSettings, film: Film) -> Self {
         let mut settings = settings;
         settings.photons = settings.photons.clamp(1, MAX_LIGHT_PATHS);
         let (w, h) = (scene.camera.width, scene.camera.height);
         // About 3 photons per light path in a closed box with albedo ~0.7; grown on demand.
         let capacity = settings.photons as usize * 4;
         PpmRenderer {
-            schedule: RadiusSchedule::new(settings.radius, settings.alpha),
+            // The schedule is 1-based: 0-based iteration k uses its (k + 1)-th radius.
+            schedule: RadiusSchedule::at_iteration(
+                settings.radius,
+                settings.alpha,
+                film.next_iteration() + 1,
+            ),
             settings,
-            film: Film::new(w, h),
+            film,
             photons: PhotonBuffer::with_capacity(capacity),
             grid: HashGrid::new(),
             estimates: vec![Vec3::ZERO; (w * h) as usize],
@@ -100,7 +132,7 @@ impl PpmRenderer {
 
     /// Renders one iteration.
     pub fn iterate(&mut self, scene: &Scene) -> IterationStats {
-        let iteration = self.film.iterations();
+        let iteration = self.film.next_iteration();
         let radius = self.schedule.radius();
         let mut passes = PassTimes::default();
         let mut clock = Stopwatch::start();
@@ -182,7 +214,8 @@ impl PpmRenderer {
 
     /// Bytes held by the render state (film, photon buffer, grid, per-pixel estimates).
     pub fn memory_bytes(&self) -> usize {
-        self.estimates.len() * (std::mem::size_of::<Vec3>() + 3 * std::mem::size_of::<f64>())
+        self.estimates.len() * std::mem::size_of::<Vec3>()
+            + self.film.memory_bytes()
             + self.photons.memory_bytes()
             + self.grid.memory_bytes()
     }
