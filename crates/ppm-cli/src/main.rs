@@ -7,12 +7,16 @@ mod args;
 mod compare;
 mod converge;
 mod error_log;
+mod merge;
 mod output;
 mod plot;
 mod progress;
+mod provenance;
 mod render;
+mod resume;
 mod setup;
 mod signal;
+mod state_file;
 
 use anyhow::Result;
 use args::{Cli, Command};
@@ -38,6 +42,7 @@ fn run(cli: Cli) -> Result<Outcome> {
     let interrupt = Interrupt::new();
     match cli.command {
         Some(Command::Compare(args)) => compare::run(&args).map(|()| Outcome::Finished),
+        Some(Command::Merge(args)) => merge::run(&args).map(|()| Outcome::Finished),
         Some(Command::Converge(args)) => {
             interrupt.install_handler()?;
             converge::run(&args, &interrupt)

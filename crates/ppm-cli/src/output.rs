@@ -193,7 +193,9 @@ pub fn write_png(path: &Path, image: &Image) -> Result<()> {
     write_png_rgb8(path, image.width, image.height, &to_srgb8(image))
 }
 
-/// Writes an image as a linear RGB f32 OpenEXR file, atomically.
+/// Writes an image as a linear RGB f32 OpenEXR file, atomically (without a render state:
+/// renders write theirs with `state_file`).
+#[allow(dead_code)] // kept for images that are not renders; its tests read it back
 pub fn write_exr(path: &Path, image: &Image) -> Result<()> {
     use exr::prelude::{Image as ExrImage, SpecificChannels, WritableImage};
     let channels = SpecificChannels::rgb(|exr::math::Vec2(x, y)| {
@@ -208,12 +210,6 @@ pub fn write_exr(path: &Path, image: &Image) -> Result<()> {
             .to_buffered(w)
             .map_err(|e| anyhow::anyhow!("{e}"))
     })
-}
-
-/// Writes both files of a render.
-pub fn write_outputs(paths: &OutputPaths, image: &Image) -> Result<()> {
-    write_png(&paths.png, image)?;
-    write_exr(&paths.exr, image)
 }
 
 /// Reads an image as linear RGB: an OpenEXR file (its R, G, B channels), a Radiance .hdr file

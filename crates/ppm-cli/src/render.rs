@@ -4,8 +4,11 @@ use crate::args::{RenderArgs, DEFAULT_ITERATIONS};
 use crate::error_log::{ErrorSample, ErrorTracker};
 use crate::output::{self, OutputPaths};
 use crate::progress::{peak_rss_bytes, Progress, Summary};
+use crate::provenance::Provenance;
+use crate::resume::{self, StartArgs};
 use crate::setup;
 use crate::signal::Interrupt;
+use crate::state_file;
 use anyhow::{Context, Result};
 use ppm_core::integrator::{PassTimes, Renderer};
 use ppm_core::scene::Scene;
@@ -82,9 +85,16 @@ struct Checkpoints {
 }
 
 impl Checkpoints {
-    fn maybe_write(&mut self, renderer: &Renderer, paths: &OutputPaths) -> Result<()> {
+    /// Writes the render's image and state (resumable with `--resume`) if it is time.
+    fn maybe_write(
+        &mut self,
+        renderer: &Renderer,
+        paths: &OutputPaths,
+        provenance: &Provenance,
+    ) -> Result<()> {
         if self.last.elapsed() >= self.every {
-            output::write_outputs(paths, &renderer.image()).context("writing a checkpoint")?;
+            state_file::write_outputs(paths, &renderer.snapshot(), provenance)
+                .context("writing a checkpoint")?;
             self.last = Instant::now();
         }
         Ok(())
@@ -117,15 +127,37 @@ pub fn run(args: &RenderArgs, interrupt: &Interrupt) -> Result<Outcome> {
         .map(|p| output::read_image(p).context("reading --reference"))
         .transpose()?;
 
-    let mut scene = setup::load_scene(&scene_path)?;
+    let (mut scene, scene_hash) = setup::load_scene_hashed(&scene_path)?;
     setup::apply_resolution(
         &mut scene,
         &args.settings,
         reference.as_ref().map(|r| (r.width, r.height)),
     )?;
     let settings = setup::render_settings(&scene, args.algorithm, &args.settings);
+    let size = (scene.camera.width, scene.camera.height);
+    let threads = setup::with_threads(args.settings.threads, rayon::current_num_threads)?;
+    let start = resume::plan(
+        &StartArgs {
+            iterations: args.iterations,
+            shard: args.shard,
+            resume: args.resume.as_deref(),
+        },
+        &Provenance::new(
+            &scene_arg.display().to_string(),
+            scene_hash,
+            &settings,
+            size,
+            threads,
+        ),
+    )?;
+    let provenance = start.provenance;
+    // Render time of this run added to the earlier runs' of a resumed render.
+    let provenance_after = |totals: &LoopTotals| Provenance {
+        render_seconds: provenance.render_seconds + totals.seconds,
+        ..provenance.clone()
+    };
     let stop = StopRule {
-        iterations: args.iterations.or(if args.time_limit.is_some() {
+        iterations: start.iterations.or(if args.time_limit.is_some() {
             None
         } else {
             Some(DEFAULT_ITERATIONS)
@@ -146,9 +178,10 @@ pub fn run(args: &RenderArgs, interrupt: &Interrupt) -> Result<Outcome> {
         last: Instant::now(),
     });
 
-    let (totals, image, rejected, state_bytes) =
+    let (totals, snapshot, rejected, state_bytes) =
         setup::with_threads(args.settings.threads, || -> Result<_> {
-            let mut renderer = Renderer::new(&scene, &settings);
+            let mut renderer = Renderer::from_snapshot(&scene, &settings, start.snapshot)
+                .context("cannot continue the saved render")?;
             let progress = Progress::new(&stop, args.algorithm.name());
             let totals = render_loop(
                 &scene,
@@ -166,7 +199,7 @@ pub fn run(args: &RenderArgs, interrupt: &Interrupt) -> Result<Outcome> {
                         }
                     }
                     if let Some(checkpoints) = &mut checkpoints {
-                        checkpoints.maybe_write(renderer, &paths)?;
+                        checkpoints.maybe_write(renderer, &paths, &provenance_after(totals))?;
                     }
                     Ok(())
                 },
@@ -175,13 +208,13 @@ pub fn run(args: &RenderArgs, interrupt: &Interrupt) -> Result<Outcome> {
             let totals = totals?;
             Ok((
                 totals,
-                renderer.image(),
+                renderer.snapshot(),
                 (renderer.rejected(), renderer.first_rejected()),
                 renderer.memory_bytes(),
             ))
         })??;
 
-    output::write_outputs(&paths, &image)?;
+    state_file::write_outputs(&paths, &snapshot, &provenance_after(&totals))?;
     status!("wrote {} and {}", paths.png.display(), paths.exr.display());
     let camera = &scene.camera;
     let (rejected, first_rejected) = rejected;
