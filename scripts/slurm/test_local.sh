@@ -122,11 +122,11 @@ until sinfo -h -o '%T' 2>/dev/null | grep -qE '^(idle|mixed|allocated)'; do
 done
 
 # A tiny scene and render, so four shards and the merge take seconds.
-cp "$repo/scenes/cornell_box.yml" "$work/scene.yml"
+scene="$repo/scenes/cornell_box.yml"
 flags=(--width 32 --height 32 --photons 2000 --seed 7)
 iterations=12 shards=4
 log "submitting $shards shards of $iterations iterations and the merge job"
-(cd "$work" && PPM=$ppm "$here/submit.sh" scene.yml "$iterations" "$shards" out "${flags[@]}")
+(cd "$work" && PPM=$ppm "$here/submit.sh" "$scene" "$iterations" "$shards" out "${flags[@]}")
 
 deadline=$((SECONDS + timeout_s))
 while [[ -n $(squeue -h -o %i 2>/dev/null) ]]; do
@@ -136,7 +136,7 @@ done
 [[ -f $work/out/merged.exr ]] || fail "the merge job wrote no image"
 
 log "rendering the same $iterations iterations in one run"
-"$ppm" "$work/scene.yml" -n "$iterations" "${flags[@]}" -o "$work/single" 2>"$work/single.log"
+"$ppm" "$scene" -n "$iterations" "${flags[@]}" -o "$work/single" 2>"$work/single.log"
 "$ppm" compare "$work/out/merged.exr" "$work/single.exr" | tee "$work/compare.txt" >&2
 cmp -s "$work/out/merged.png" "$work/single.png" || fail "the merged PNG differs from the single render's"
 # Only an exact 0 prints as 0.000000e0 (any difference, however small, has an exponent).
