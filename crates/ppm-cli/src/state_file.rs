@@ -64,10 +64,12 @@ pub fn write(path: &Path, snapshot: &Snapshot, provenance: &Provenance) -> Resul
             FlatSamples::U32(p.values.clone()),
         ));
     }
-    let mut attributes = LayerAttributes::default();
-    attributes.software_name = Some(Text::from(
-        format!("ppm {}", env!("CARGO_PKG_VERSION")).as_str(),
-    ));
+    let mut attributes = LayerAttributes {
+        software_name: Some(Text::from(
+            format!("ppm {}", env!("CARGO_PKG_VERSION")).as_str(),
+        )),
+        ..LayerAttributes::default()
+    };
     for (name, value) in provenance.to_attributes() {
         attributes.other.insert(
             Text::from(name),
