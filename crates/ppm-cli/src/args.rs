@@ -1,8 +1,8 @@
 //! The command line. Flags are a contract with users' scripts: rename nothing.
 //!
 //! Rendering is the default: `ppm scene.yml -n 100` and `ppm render scene.yml -n 100` are the
-//! same. A scene file named like a subcommand (`compare`, `converge`, `render`) can still be
-//! rendered as `ppm ./compare`.
+//! same. A scene file named like a subcommand (`compare`, `converge`, `merge`, `render`) can
+//! still be rendered as `ppm ./compare`.
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use ppm_core::camera::MAX_RESOLUTION;
@@ -43,6 +43,9 @@ pub enum Command {
     Converge(ConvergeArgs),
     /// Print what an EXR image records: size, channels and every header attribute.
     Info(InfoArgs),
+    /// Join the EXRs of shards (or consecutive slices) of one render into the image of the
+    /// whole render, bit for bit.
+    Merge(MergeArgs),
 }
 
 /// Iterations rendered when neither `-n` nor `--time-limit` is given.
@@ -104,6 +107,14 @@ pub struct RenderArgs {
     /// <output>.radius.exr, each pixel's gather radius in the last iteration (scene units).
     #[arg(long, value_enum, value_name = "NAME")]
     pub aov: Vec<AovArg>,
+    /// Render only slice I (0-based) of K equal slices of the -n iterations; join the K
+    /// EXRs with `ppm merge`.
+    #[arg(long, value_name = "I/K", value_parser = crate::provenance::parse_shard_arg, requires = "iterations")]
+    pub shard: Option<(u64, u64)>,
+    /// Continue the render saved in this EXR (a finished image or a checkpoint) for -n more
+    /// iterations; the scene and settings must be the file's.
+    #[arg(long, value_name = "FILE.exr")]
+    pub resume: Option<PathBuf>,
 }
 
 /// Extra images (arbitrary output variables) a render can write.
@@ -198,6 +209,16 @@ pub struct ConvergeArgs {
     pub out: PathBuf,
     #[command(flatten)]
     pub settings: SettingsArgs,
+}
+
+#[derive(Args, Debug, Clone)]
+pub struct MergeArgs {
+    /// The EXRs of the parts (`--shard` renders or consecutive `--resume` slices), any order.
+    #[arg(required = true, value_name = "PART.exr")]
+    pub parts: Vec<PathBuf>,
+    /// Output image: out.png, out.exr or out all write out.png + out.exr.
+    #[arg(short, long, value_name = "PATH", required = true)]
+    pub output: PathBuf,
 }
 
 #[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]

@@ -14,14 +14,18 @@ mod error_log;
 mod guard;
 mod info;
 mod memory;
+mod merge;
 mod output;
 mod plot;
 mod progress;
+mod provenance;
 mod render;
 mod report;
+mod resume;
 mod scene_search;
 mod setup;
 mod signal;
+mod state_file;
 
 use anyhow::Result;
 use args::{Cli, Command};
@@ -48,6 +52,7 @@ fn run(cli: Cli) -> Result<Outcome> {
     match cli.command {
         Some(Command::Compare(args)) => compare::run(&args).map(|()| Outcome::Finished),
         Some(Command::Info(args)) => info::run(&args.image).map(|()| Outcome::Finished),
+        Some(Command::Merge(args)) => merge::run(&args).map(|()| Outcome::Finished),
         Some(Command::Converge(args)) => {
             interrupt.install_handler()?;
             converge::run(&args, &interrupt)

@@ -253,11 +253,13 @@ pub fn write_png(path: &Path, image: &Image) -> Result<()> {
     pending_png(path, image)?.commit()
 }
 
-fn pending_png(path: &Path, image: &Image) -> Result<PendingFile> {
+/// A PNG of `image` written to a temporary file, to be committed (see [`commit_pair`]).
+pub fn pending_png(path: &Path, image: &Image) -> Result<PendingFile> {
     pending_png_rgb8(path, image.width, image.height, &to_srgb8(image))
 }
 
-/// Writes an image as a linear RGB f32 OpenEXR file, atomically (see [`write_png`]).
+/// Writes an image as a linear RGB f32 OpenEXR file, atomically, without a render state (an
+/// AOV; renders write theirs with `state_file`).
 pub fn write_exr(path: &Path, image: &Image) -> Result<()> {
     pending_exr(path, image)?.commit()
 }
@@ -278,11 +280,15 @@ fn pending_exr(path: &Path, image: &Image) -> Result<PendingFile> {
     })
 }
 
-/// Writes both files of a render, as a pair: both are written in full to temporary files
-/// first, and only then renamed over the targets, so a full disk or any other write error
-/// leaves the previous PNG and EXR both as they were (never a new PNG beside an old EXR).
-/// The error says which files were replaced.
-pub fn write_outputs(paths: &OutputPaths, image: &Image) -> Result<()> {
+/// Commits a PNG and an EXR written in full to temporary files ([`PendingFile`]) as a pair:
+/// both were written before either is renamed over its target, so a full disk or any other
+/// write error leaves the previous PNG and EXR both as they were (never a new PNG beside an
+/// old EXR). The error says which files were replaced.
+pub fn commit_pair(
+    paths: &OutputPaths,
+    png: impl FnOnce() -> Result<PendingFile>,
+    exr: impl FnOnce() -> Result<PendingFile>,
+) -> Result<()> {
     let kept = || {
         format!(
             "neither {} nor {} was replaced",
@@ -290,8 +296,8 @@ pub fn write_outputs(paths: &OutputPaths, image: &Image) -> Result<()> {
             paths.exr.display()
         )
     };
-    let png = pending_png(&paths.png, image).with_context(kept)?;
-    let exr = pending_exr(&paths.exr, image).with_context(kept)?;
+    let png = png().with_context(kept)?;
+    let exr = exr().with_context(kept)?;
     png.commit().with_context(kept)?;
     exr.commit().with_context(|| {
         format!(

@@ -4,7 +4,10 @@ use crate::args::{AlgorithmArg, AovArg, RenderArgs, DEFAULT_ITERATIONS};
 use crate::error_log::{ErrorSample, ErrorTracker};
 use crate::output::{self, OutputPaths};
 use crate::progress::{peak_rss_bytes, Progress, Summary};
+use crate::provenance::Provenance;
+use crate::resume::{self, StartArgs};
 use crate::signal::Interrupt;
+use crate::state_file;
 use crate::{guard, memory, setup};
 use anyhow::{bail, Context, Result};
 use ppm_core::integrator::{PassTimes, Renderer};
@@ -92,12 +95,16 @@ struct Checkpoints {
 }
 
 impl Checkpoints {
-    /// A failed checkpoint (a full disk, a removed folder) is a warning, not the end of the
+    /// Writes the render's image and state (resumable with `--resume`) if it is time. A
+    /// failed checkpoint (a full disk, a removed folder) is a warning, not the end of the
     /// render: the previous checkpoint's files are intact (both are replaced together or not
     /// at all), the render goes on, and the next checkpoint or the final write tries again.
-    fn maybe_write(&mut self, renderer: &Renderer, paths: &OutputPaths) {
+    fn maybe_write(&mut self, renderer: &Renderer, paths: &OutputPaths, provenance: &Provenance) {
         if self.last.elapsed() >= self.every {
-            if let Err(e) = output::write_outputs(paths, &renderer.image()) {
+            let snapshot = renderer.snapshot();
+            if let Err(e) =
+                state_file::write_outputs(paths, &renderer.image(), &snapshot, provenance)
+            {
                 status!(
                     "\nwarning: checkpoint not written: {e:#}; the last good checkpoint is kept \
                      and rendering goes on"
@@ -148,7 +155,7 @@ pub fn run(args: &RenderArgs, interrupt: &Interrupt) -> Result<Outcome> {
         .map(|p| output::read_image(p).context("reading --reference"))
         .transpose()?;
 
-    let mut scene = setup::load_scene(&scene_path)?;
+    let (mut scene, scene_hash) = setup::load_scene_hashed(&scene_path)?;
     setup::apply_resolution(
         &mut scene,
         &args.settings,
@@ -163,6 +170,7 @@ pub fn run(args: &RenderArgs, interrupt: &Interrupt) -> Result<Outcome> {
         args.cropwindow.as_deref(),
         args.pixelbounds.as_deref(),
     )?;
+    let cropped = bounds != ppm_core::pixel_bounds::PixelBounds::full(camera.width, camera.height);
     if args.verbose {
         status!(
             "{}",
@@ -173,8 +181,36 @@ pub fn run(args: &RenderArgs, interrupt: &Interrupt) -> Result<Outcome> {
         let name = scene_path.file_stem().unwrap_or_default().to_string_lossy();
         crate::display::Display::start(address, &format!("ppm {name}"))
     });
+    if cropped && (args.shard.is_some() || args.resume.is_some()) {
+        bail!(
+            "--cropwindow and --pixelbounds render a part of the image, which --shard and \
+             --resume do not take: render whole images to shard or resume them"
+        );
+    }
+    let size = (scene.camera.width, scene.camera.height);
+    let threads = setup::with_threads(args.settings.threads, rayon::current_num_threads)?;
+    let start = resume::plan(
+        &StartArgs {
+            iterations,
+            shard: args.shard,
+            resume: args.resume.as_deref(),
+        },
+        &Provenance::new(
+            &scene_arg.display().to_string(),
+            scene_hash,
+            &settings,
+            size,
+            threads,
+        ),
+    )?;
+    let provenance = start.provenance;
+    // Render time of this run added to the earlier runs' of a resumed render.
+    let provenance_after = |totals: &LoopTotals| Provenance {
+        render_seconds: provenance.render_seconds + totals.seconds,
+        ..provenance.clone()
+    };
     let stop = StopRule {
-        iterations: iterations.or(if args.time_limit.is_some() {
+        iterations: start.iterations.or(if args.time_limit.is_some() {
             None
         } else {
             Some(DEFAULT_ITERATIONS)
@@ -195,7 +231,7 @@ pub fn run(args: &RenderArgs, interrupt: &Interrupt) -> Result<Outcome> {
         last: Instant::now(),
     });
 
-    let (totals, image, rejected, state_bytes, aovs, threads) =
+    let (totals, image, snapshot, rejected, state_bytes, aovs, threads) =
         setup::with_threads(args.settings.threads, || -> Result<_> {
             if args.verbose {
                 status!(
@@ -207,7 +243,12 @@ pub fn run(args: &RenderArgs, interrupt: &Interrupt) -> Result<Outcome> {
                     )
                 );
             }
-            let mut renderer = Renderer::with_bounds(&settings, bounds);
+            let mut renderer = if !cropped {
+                Renderer::from_snapshot(&scene, &settings, start.snapshot)
+                    .context("cannot continue the saved render")?
+            } else {
+                Renderer::with_bounds(&settings, bounds)
+            };
             let progress = Progress::new(&stop, args.algorithm.name());
             let totals = render_loop(
                 &scene,
@@ -225,7 +266,7 @@ pub fn run(args: &RenderArgs, interrupt: &Interrupt) -> Result<Outcome> {
                         }
                     }
                     if let Some(checkpoints) = &mut checkpoints {
-                        checkpoints.maybe_write(renderer, &paths);
+                        checkpoints.maybe_write(renderer, &paths, &provenance_after(totals));
                     }
                     if let Some(preview) = &mut preview {
                         preview.offer(|| renderer.image());
@@ -245,6 +286,7 @@ pub fn run(args: &RenderArgs, interrupt: &Interrupt) -> Result<Outcome> {
             Ok((
                 totals,
                 renderer.image(),
+                renderer.snapshot(),
                 (renderer.rejected(), renderer.first_rejected()),
                 renderer.memory_bytes(),
                 aovs,
@@ -266,7 +308,7 @@ pub fn run(args: &RenderArgs, interrupt: &Interrupt) -> Result<Outcome> {
         );
         return Ok(Outcome::Interrupted);
     }
-    output::write_outputs(&paths, &image)?;
+    state_file::write_outputs(&paths, &image, &snapshot, &provenance_after(&totals))?;
     info!("wrote {} and {}", paths.png.display(), paths.exr.display());
     for (aov, aov_image) in &aovs {
         let path = paths.aov(aov.name());

@@ -101,6 +101,9 @@ mod tests {
         );
         // An absolute path is only tried as given.
         let absolute = one.path().join("missing.yml");
-        assert_eq!(candidates(&absolute, &folders), std::slice::from_ref(&absolute));
+        assert_eq!(
+            candidates(&absolute, &folders),
+            std::slice::from_ref(&absolute)
+        );
     }
 }

@@ -46,12 +46,17 @@ pub fn locate_scene(arg: &Path) -> Result<PathBuf> {
 
 /// Loads a scene file, printing the loader's warnings to stderr.
 pub fn load_scene(path: &Path) -> Result<Scene> {
+    load_scene_hashed(path).map(|(scene, _)| scene)
+}
+
+/// Like [`load_scene`], with the scene's content hash (recorded in the images' provenance).
+pub fn load_scene_hashed(path: &Path) -> Result<(Scene, u64)> {
     let loaded = ppm_scene::load_scene(path)
         .with_context(|| format!("cannot load scene {}", path.display()))?;
     for warning in &loaded.warnings {
         status!("warning: {warning}");
     }
-    Ok(loaded.scene)
+    Ok((loaded.scene, loaded.content_hash))
 }
 
 /// The image size of a render: `--width`/`--height` if given (one alone keeps the scene's

@@ -30,3 +30,38 @@ pub enum SceneError {
     #[error("material index {0} is out of range")]
     MissingMaterial(u32),
 }
+
+/// Why a saved render state cannot be continued or joined with another.
+#[derive(Debug, Error, Clone, PartialEq)]
+pub enum StateError {
+    /// The state's image size is not the render's.
+    #[error("the saved state is {saved_width}x{saved_height} but the render is {width}x{height}")]
+    Size {
+        saved_width: u32,
+        saved_height: u32,
+        width: u32,
+        height: u32,
+    },
+    /// A per-pixel array has the wrong number of entries.
+    #[error("the saved state's {what} has {got} entries, expected {expected}")]
+    Length {
+        what: String,
+        got: usize,
+        expected: usize,
+    },
+    /// Two slices of iterations do not follow each other.
+    #[error(
+        "iterations {next_first}..{next_end} do not follow iterations {first}..{end} \
+         (expected the next slice to start at {end})"
+    )]
+    NotContiguous {
+        first: u64,
+        end: u64,
+        next_first: u64,
+        next_end: u64,
+    },
+    /// The integrator carries per-pixel state that cannot be merged, or does not know a
+    /// saved per-pixel channel.
+    #[error("{0}")]
+    Unsupported(String),
+}

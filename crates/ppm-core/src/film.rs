@@ -1,5 +1,6 @@
 //! Accumulation of per-iteration estimates into an image (no file formats here).
 
+use crate::StateError;
 use glam::Vec3;
 
 /// A linear RGB image, row-major from the top-left pixel.
@@ -38,15 +39,46 @@ impl Image {
     }
 }
 
-/// The running average of one estimate per pixel per iteration.
+/// Fractional bits of the film's fixed-point sums: one unit is 2^-48 (3.6e-15).
 ///
-/// Sums are kept in f64: after 10^5 iterations of values near 1 an f32 sum would have lost
-/// about 7 of its 24 bits, an f64 sum loses nothing that matters.
-#[derive(Clone, Debug)]
+/// Every f32 estimate of at least 2^-25 (3e-8) is a whole number of units, so it is added
+/// exactly; smaller ones are rounded to the nearest unit (an absolute error below 1.8e-15).
+pub const FIXED_POINT_BITS: u32 = 48;
+/// 2^FIXED_POINT_BITS.
+const FIXED_POINT_SCALE: f64 = (1u64 << FIXED_POINT_BITS) as f64;
+/// The largest estimate added as it is: 2^56 (7.2e16, far beyond any radiance a scene of
+/// this renderer produces); larger ones are clamped to it. 2^24 iterations of clamped estimates still fit in a u128
+/// sum (2^(56 + 48 + 24) = 2^128); beyond that the sum saturates at u128::MAX.
+pub const MAX_ESTIMATE: f64 = (1u64 << 56) as f64;
+
+/// An estimate as a whole number of 2^-48 units (`e` finite and >= 0), clamped at
+/// [`MAX_ESTIMATE`]: e * 2^48 is exact in f64 (24 significant bits shifted), so only the
+/// rounding of values below 2^-25 loses anything.
+fn to_fixed(e: f32) -> u128 {
+    ((e as f64).min(MAX_ESTIMATE) * FIXED_POINT_SCALE).round() as u128
+}
+
+/// A fixed-point sum as a value.
+fn from_fixed(sum: u128) -> f64 {
+    sum as f64 / FIXED_POINT_SCALE
+}
+
+/// The running average of one estimate per pixel per iteration, over a contiguous slice of
+/// iterations `first_iteration..first_iteration + iterations`.
+///
+/// Sums are exact fixed-point integers (u128, [`FIXED_POINT_BITS`] fractional bits), not
+/// floating point: integer addition is associative, so the sum over iterations 0..N is the
+/// same bit for bit whether it was accumulated in one run, resumed from a saved film, or
+/// joined from slices rendered on different machines ([`Film::append`]). An f64 sum would
+/// depend on the order of the additions. Saturating addition of non-negative values is
+/// min(exact sum, u128::MAX) in any order, so even the saturated case stays associative.
+#[derive(Clone, Debug, PartialEq)]
 pub struct Film {
     pub width: u32,
     pub height: u32,
-    sum: Vec<[f64; 3]>,
+    sum: Vec<[u128; 3]>,
+    /// The index of the first iteration accumulated (random streams are keyed by it).
+    first_iteration: u64,
     iterations: u64,
     /// Samples dropped because they were NaN or infinite.
     rejected: u64,
@@ -55,16 +87,69 @@ pub struct Film {
     first_rejected: Option<(u64, u32)>,
 }
 
+/// The parts of a [`Film`], for saving it and reading it back ([`Film::from_parts`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct FilmParts {
+    pub width: u32,
+    pub height: u32,
+    /// Fixed-point sums ([`FIXED_POINT_BITS`] fractional bits), row-major, R, G, B.
+    pub sum: Vec<[u128; 3]>,
+    pub first_iteration: u64,
+    pub iterations: u64,
+    pub rejected: u64,
+    pub first_rejected: Option<(u64, u32)>,
+}
+
 impl Film {
     /// An empty film.
     pub fn new(width: u32, height: u32) -> Self {
+        Film::starting_at(width, height, 0)
+    }
+
+    /// An empty film whose first iteration will be `first_iteration` (a shard of a render).
+    pub fn starting_at(width: u32, height: u32, first_iteration: u64) -> Self {
         Film {
             width,
             height,
-            sum: vec![[0.0; 3]; (width * height) as usize],
+            sum: vec![[0; 3]; (width * height) as usize],
+            first_iteration,
             iterations: 0,
             rejected: 0,
             first_rejected: None,
+        }
+    }
+
+    /// A film from saved parts; the sums must hold one entry per pixel.
+    pub fn from_parts(parts: FilmParts) -> Result<Self, StateError> {
+        let expected = parts.width as usize * parts.height as usize;
+        if parts.sum.len() != expected {
+            return Err(StateError::Length {
+                what: "film".into(),
+                got: parts.sum.len(),
+                expected,
+            });
+        }
+        Ok(Film {
+            width: parts.width,
+            height: parts.height,
+            sum: parts.sum,
+            first_iteration: parts.first_iteration,
+            iterations: parts.iterations,
+            rejected: parts.rejected,
+            first_rejected: parts.first_rejected,
+        })
+    }
+
+    /// The film's parts, for saving.
+    pub fn to_parts(&self) -> FilmParts {
+        FilmParts {
+            width: self.width,
+            height: self.height,
+            sum: self.sum.clone(),
+            first_iteration: self.first_iteration,
+            iterations: self.iterations,
+            rejected: self.rejected,
+            first_rejected: self.first_rejected,
         }
     }
 
@@ -72,18 +157,49 @@ impl Film {
     /// are dropped (counted in [`Film::rejected`]) and count as zero.
     pub fn add_iteration(&mut self, estimates: &[Vec3]) {
         assert_eq!(estimates.len(), self.sum.len());
+        let iteration = self.next_iteration();
         for (pixel, (s, e)) in self.sum.iter_mut().zip(estimates).enumerate() {
             if e.is_finite() && e.min_element() >= 0.0 {
-                s[0] += e.x as f64;
-                s[1] += e.y as f64;
-                s[2] += e.z as f64;
+                for (c, v) in s.iter_mut().zip(e.to_array()) {
+                    *c = c.saturating_add(to_fixed(v));
+                }
             } else {
                 self.rejected += 1;
-                self.first_rejected
-                    .get_or_insert((self.iterations, pixel as u32));
+                self.first_rejected.get_or_insert((iteration, pixel as u32));
             }
         }
         self.iterations += 1;
+    }
+
+    /// Joins the slice of iterations that follows this one: afterwards the film holds both,
+    /// bit for bit what one film accumulating all of them would hold.
+    pub fn append(&mut self, later: &Film) -> Result<(), StateError> {
+        if (later.width, later.height) != (self.width, self.height) {
+            return Err(StateError::Size {
+                saved_width: later.width,
+                saved_height: later.height,
+                width: self.width,
+                height: self.height,
+            });
+        }
+        if later.first_iteration != self.next_iteration() {
+            return Err(StateError::NotContiguous {
+                first: self.first_iteration,
+                end: self.next_iteration(),
+                next_first: later.first_iteration,
+                next_end: later.next_iteration(),
+            });
+        }
+        for (s, t) in self.sum.iter_mut().zip(&later.sum) {
+            for (a, b) in s.iter_mut().zip(t) {
+                *a = a.saturating_add(*b);
+            }
+        }
+        self.iterations += later.iterations;
+        self.rejected += later.rejected;
+        // This slice's iterations come first: its first rejected sample, if any, is earlier.
+        self.first_rejected = self.first_rejected.or(later.first_rejected);
+        Ok(())
     }
 
     /// Adds to the rejected-sample count (for samples dropped before they reached the film).
@@ -94,6 +210,18 @@ impl Film {
     /// Iterations accumulated.
     pub fn iterations(&self) -> u64 {
         self.iterations
+    }
+
+    /// The index of the first iteration accumulated (0 unless this is a shard or a resumed
+    /// slice).
+    pub fn first_iteration(&self) -> u64 {
+        self.first_iteration
+    }
+
+    /// The index of the next iteration to render: random streams and the photon-mapping
+    /// radius are functions of it.
+    pub fn next_iteration(&self) -> u64 {
+        self.first_iteration + self.iterations
     }
 
     /// Non-finite samples dropped so far.
@@ -117,13 +245,18 @@ impl Film {
                 .iter()
                 .map(|s| {
                     Vec3::new(
-                        (s[0] * inv) as f32,
-                        (s[1] * inv) as f32,
-                        (s[2] * inv) as f32,
+                        (from_fixed(s[0]) * inv) as f32,
+                        (from_fixed(s[1]) * inv) as f32,
+                        (from_fixed(s[2]) * inv) as f32,
                     )
                 })
                 .collect(),
         }
+    }
+
+    /// Bytes held by the sums.
+    pub fn memory_bytes(&self) -> usize {
+        self.sum.len() * std::mem::size_of::<[u128; 3]>()
     }
 }
 
@@ -153,5 +286,109 @@ mod tests {
         }
         let m = film.image().pixels[0].x as f64;
         assert!((m - 0.1f32 as f64).abs() / 0.1 < 1e-6, "{m}");
+    }
+
+    /// A small deterministic generator of positive f32 values spanning many magnitudes.
+    fn values(seed: u64, n: usize) -> Vec<Vec3> {
+        let mut state = seed.wrapping_mul(0x9e37_79b9_7f4a_7c15) | 1;
+        let mut next = move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            // Mantissa and an exponent in 2^-30 .. 2^20.
+            let m = (state >> 40) as f32 / (1u64 << 24) as f32 + 0.5;
+            m * 2f32.powi((state % 51) as i32 - 30)
+        };
+        (0..n).map(|_| Vec3::new(next(), next(), next())).collect()
+    }
+
+    #[test]
+    fn estimates_of_at_least_2_pow_minus_25_are_stored_exactly() {
+        for v in values(3, 2000).iter().flat_map(|v| v.to_array()) {
+            let back = from_fixed(to_fixed(v));
+            if v >= 2f32.powi(-25) {
+                assert_eq!(back, v as f64, "{v:e}");
+            } else {
+                assert!((back - v as f64).abs() <= 0.5 / FIXED_POINT_SCALE, "{v:e}");
+            }
+        }
+        assert_eq!(to_fixed(f32::MAX), to_fixed(MAX_ESTIMATE as f32));
+    }
+
+    /// The point of fixed-point sums: slices of iterations accumulated separately and joined
+    /// give the film of one accumulation, bit for bit, however the slices are grouped.
+    #[test]
+    fn joined_slices_equal_one_accumulation() {
+        let (w, h) = (7, 5);
+        let n = (w * h) as usize;
+        let iterations: Vec<Vec<Vec3>> = (0..9).map(|i| values(i, n)).collect();
+        let mut whole = Film::new(w, h);
+        for e in &iterations {
+            whole.add_iteration(e);
+        }
+        let slice = |first: usize, end: usize| {
+            let mut f = Film::starting_at(w, h, first as u64);
+            for e in &iterations[first..end] {
+                f.add_iteration(e);
+            }
+            f
+        };
+        // (a + b) + c
+        let mut left = slice(0, 2);
+        left.append(&slice(2, 6)).unwrap();
+        left.append(&slice(6, 9)).unwrap();
+        // a + (b + c)
+        let mut bc = slice(2, 6);
+        bc.append(&slice(6, 9)).unwrap();
+        let mut right = slice(0, 2);
+        right.append(&bc).unwrap();
+        assert_eq!(left, whole);
+        assert_eq!(right, whole);
+        assert_eq!(whole.image(), left.image());
+        assert_eq!((whole.first_iteration(), whole.next_iteration()), (0, 9));
+    }
+
+    #[test]
+    fn only_following_slices_join() {
+        let mut a = Film::starting_at(2, 2, 0);
+        a.add_iteration(&[Vec3::ONE; 4]);
+        let gap = Film::starting_at(2, 2, 2);
+        assert!(matches!(
+            a.append(&gap),
+            Err(StateError::NotContiguous {
+                end: 1,
+                next_first: 2,
+                ..
+            })
+        ));
+        assert!(matches!(
+            a.append(&Film::starting_at(3, 2, 1)),
+            Err(StateError::Size { .. })
+        ));
+        a.append(&Film::starting_at(2, 2, 1)).unwrap();
+        // Overlap: a now ends at 1 (the empty slice added nothing), a second slice from 0 overlaps.
+        assert!(a.append(&Film::new(2, 2)).is_err());
+    }
+
+    #[test]
+    fn the_first_rejected_sample_is_the_earliest_after_a_join() {
+        let nan = Vec3::splat(f32::NAN);
+        let mut a = Film::new(1, 1);
+        a.add_iteration(&[Vec3::ONE]);
+        let mut b = Film::starting_at(1, 1, 1);
+        b.add_iteration(&[nan]);
+        b.add_iteration(&[nan]);
+        a.append(&b).unwrap();
+        assert_eq!((a.rejected(), a.first_rejected()), (2, Some((1, 0))));
+    }
+
+    #[test]
+    fn sums_saturate_instead_of_wrapping() {
+        let mut film = Film::new(1, 1);
+        let huge = Vec3::splat(f32::MAX);
+        // 2^56 per iteration clamped, 2^104 units each: 2^24 of them fill the u128.
+        film.sum[0] = [u128::MAX - 5; 3];
+        film.add_iteration(&[huge]);
+        assert_eq!(film.sum[0], [u128::MAX; 3]);
     }
 }

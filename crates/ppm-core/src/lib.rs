@@ -45,7 +45,7 @@ pub mod sampling;
 pub mod scene;
 mod simd;
 
-pub use error::SceneError;
+pub use error::{SceneError, StateError};
 pub use glam::{Vec2, Vec3};
 
 /// The types most programs need, in one import.

@@ -18,6 +18,7 @@
 //! ```
 
 mod build;
+mod content_hash;
 mod error;
 pub mod mtl;
 mod nesting;
@@ -26,6 +27,7 @@ mod values;
 mod yaml;
 
 pub use build::DEFAULT_RESOLUTION;
+pub use content_hash::content_hash;
 pub use error::LoadError;
 pub use nesting::MAX_NESTING;
 
@@ -36,16 +38,23 @@ use std::path::{Path, PathBuf};
 pub struct LoadedScene {
     pub scene: Scene,
     pub warnings: Vec<String>,
+    /// [`content_hash`] of the scene as loaded (meshes included).
+    pub content_hash: u64,
 }
 
 /// Loads a scene file (scene format v1) and builds the scene (BVH, lights).
 pub fn load_scene(path: &Path) -> Result<LoadedScene, LoadError> {
     let (builder, warnings) = load_scene_builder(path)?;
+    let content_hash = content_hash(&builder);
     let scene = builder.build().map_err(|source| LoadError::Scene {
         path: path.to_path_buf(),
         source,
     })?;
-    Ok(LoadedScene { scene, warnings })
+    Ok(LoadedScene {
+        scene,
+        warnings,
+        content_hash,
+    })
 }
 
 /// Reads and checks a scene file and the meshes it references, without building the BVH:

@@ -13,6 +13,7 @@ mod path;
 mod ppm;
 mod settings;
 mod shading;
+mod snapshot;
 mod sppm;
 
 pub use camera_path::CameraPath;
@@ -34,11 +35,13 @@ pub use settings::{
     Algorithm, DirectMode, LightStrategy, Radius, RenderSettings, DEFAULT_PHOTONS, MAX_DEPTH,
 };
 pub use shading::ShadingFrame;
+pub use snapshot::{PixelChannel, Snapshot};
 pub use sppm::{PixelStatistics, SplatPoint, SppmRenderer};
 
 use crate::film::Image;
 use crate::pixel_bounds::PixelBounds;
 use crate::scene::Scene;
+use crate::StateError;
 
 /// What one iteration did, for progress and speed reports.
 #[derive(Clone, Copy, Debug, Default)]
@@ -147,6 +150,41 @@ impl Renderer {
         }
     }
 
+    /// A render continuing from a saved state (`--resume`), or starting at a later iteration
+    /// (a shard: [`Snapshot::starting_at`]); each integrator checks and takes what it saved.
+    pub fn from_snapshot(
+        scene: &Scene,
+        settings: &RenderSettings,
+        snapshot: Snapshot,
+    ) -> Result<Self, StateError> {
+        Ok(match settings.algorithm {
+            Algorithm::Path => Renderer::Path(PathTracer::from_snapshot(
+                scene,
+                settings.clone(),
+                snapshot,
+            )?),
+            Algorithm::Ppm => Renderer::Ppm(Box::new(PpmRenderer::from_snapshot(
+                scene,
+                settings.clone(),
+                snapshot,
+            )?)),
+            Algorithm::Sppm => Renderer::Sppm(Box::new(SppmRenderer::from_snapshot(
+                scene,
+                settings.clone(),
+                snapshot,
+            )?)),
+        })
+    }
+
+    /// Everything [`Renderer::from_snapshot`] needs to continue this render exactly.
+    pub fn snapshot(&self) -> Snapshot {
+        match self {
+            Renderer::Path(r) => r.snapshot(),
+            Renderer::Ppm(r) => r.snapshot(),
+            Renderer::Sppm(r) => r.snapshot(),
+        }
+    }
+
     /// Renders one more iteration.
     pub fn iterate(&mut self, scene: &Scene) -> IterationStats {
         match self {
@@ -192,7 +230,16 @@ impl Renderer {
         }
     }
 
-    /// Iterations done.
+    /// The index of the first iteration in the image (0 unless a shard or a slice).
+    pub fn first_iteration(&self) -> u64 {
+        match self {
+            Renderer::Path(r) => r.film().first_iteration(),
+            Renderer::Ppm(r) => r.film().first_iteration(),
+            Renderer::Sppm(r) => r.first_iteration(),
+        }
+    }
+
+    /// Iterations in the image (resumed ones included).
     pub fn iterations(&self) -> u64 {
         match self {
             Renderer::Path(r) => r.film().iterations(),

@@ -7,13 +7,14 @@ mod tracer;
 
 use super::camera_walk::RayCounters;
 use super::{
-    image_bytes, IterationStats, MemoryEstimate, MemoryPart, PassTimes, RenderSettings, Stopwatch,
-    MAX_DEPTH,
+    image_bytes, IterationStats, MemoryEstimate, MemoryPart, PassTimes, RenderSettings, Snapshot,
+    Stopwatch, MAX_DEPTH,
 };
 use crate::film::Film;
 use crate::pixel_bounds::PixelBounds;
 use crate::sampling::Rng;
 use crate::scene::Scene;
+use crate::StateError;
 use glam::{Vec2, Vec3};
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -59,6 +60,33 @@ impl PathTracer {
         estimate
     }
 
+    /// A render continuing from `snapshot`: the path tracer carries nothing but the film
+    /// between iterations, and iteration i's paths depend on (seed, i, pixel) alone.
+    pub fn from_snapshot(
+        scene: &Scene,
+        settings: RenderSettings,
+        snapshot: Snapshot,
+    ) -> Result<Self, StateError> {
+        let (w, h) = (scene.camera.width, scene.camera.height);
+        snapshot.check_film_only(w, h)?;
+        let mut settings = settings;
+        settings.max_depth = settings.max_depth.min(MAX_DEPTH);
+        Ok(PathTracer {
+            settings,
+            film: snapshot.film,
+            bounds: PixelBounds::full(w, h),
+            estimates: vec![Vec3::ZERO; (w * h) as usize],
+        })
+    }
+
+    /// What [`PathTracer::from_snapshot`] needs to continue: the film.
+    pub fn snapshot(&self) -> Snapshot {
+        Snapshot {
+            film: self.film.clone(),
+            pixels: Vec::new(),
+        }
+    }
+
     /// Traces one path through every pixel and adds the result to the film.
     ///
     /// The pixel estimate is a box-filtered one: a uniformly jittered position in the pixel.
@@ -78,7 +106,7 @@ impl PathTracer {
         scene: &Scene,
         stop: &F,
     ) -> Option<IterationStats> {
-        let iteration = self.film.iterations();
+        let iteration = self.film.next_iteration();
         let width = scene.camera.width as usize;
         let settings = &self.settings;
         let abandoned = AtomicBool::new(false);
@@ -139,6 +167,6 @@ impl PathTracer {
 
     /// Bytes held by the render state.
     pub fn memory_bytes(&self) -> usize {
-        self.estimates.len() * (std::mem::size_of::<Vec3>() + 3 * std::mem::size_of::<f64>())
+        self.estimates.len() * std::mem::size_of::<Vec3>() + self.film.memory_bytes()
     }
 }

@@ -34,12 +34,13 @@ use super::camera_walk::RayCounters;
 use super::footprint::{pilot_radii, quantile};
 use super::{
     image_bytes, IterationStats, MemoryEstimate, MemoryPart, PassTimes, Radius, RenderSettings,
-    Stopwatch, BYTES_PER_PHOTON, MAX_DEPTH, PHOTONS_PER_PATH,
+    Snapshot, Stopwatch, BYTES_PER_PHOTON, MAX_DEPTH, PHOTONS_PER_PATH,
 };
 use crate::film::{Film, Image};
 use crate::photon::{HashGrid, Kernel, PhotonBuffer};
 use crate::pixel_bounds::PixelBounds;
 use crate::scene::Scene;
+use crate::StateError;
 use eye_pass::trace_eye_path;
 use glam::Vec3;
 use rayon::prelude::*;
@@ -94,6 +95,39 @@ impl PpmRenderer {
 
     /// A fresh render of the pixels in `bounds` only (see [`PixelBounds`]).
     pub fn with_bounds(settings: RenderSettings, bounds: PixelBounds) -> Self {
+        let film = Film::new(bounds.width(), bounds.height());
+        Self::with_film(settings, bounds, film)
+    }
+
+    /// A render continuing from `snapshot` (whole images only). Knaus and Zwicker's PPM
+    /// carries nothing but the film between iterations: iteration i's photons and eye paths
+    /// depend on (seed, i) and its radius on i alone, so the schedule restarts at the
+    /// snapshot's next iteration (and `Radius::Auto`'s pilot, keyed by (seed, pixel), is
+    /// traced again to the same radii).
+    pub fn from_snapshot(
+        scene: &Scene,
+        settings: RenderSettings,
+        snapshot: Snapshot,
+    ) -> Result<Self, StateError> {
+        let (w, h) = (scene.camera.width, scene.camera.height);
+        snapshot.check_film_only(w, h)?;
+        Ok(Self::with_film(
+            settings,
+            PixelBounds::full(w, h),
+            snapshot.film,
+        ))
+    }
+
+    /// What [`PpmRenderer::from_snapshot`] needs to continue: the film.
+    pub fn snapshot(&self) -> Snapshot {
+        Snapshot {
+            film: self.film.clone(),
+            pixels: Vec::new(),
+        }
+    }
+
+    /// A render of `bounds` whose next iteration is `film.next_iteration()`.
+    fn with_film(settings: RenderSettings, bounds: PixelBounds, film: Film) -> Self {
         let mut settings = settings;
         settings.photons = settings.photons.clamp(1, MAX_LIGHT_PATHS);
         settings.max_depth = settings.max_depth.min(MAX_DEPTH);
@@ -104,11 +138,16 @@ impl PpmRenderer {
             Radius::Auto => 1.0,
         };
         PpmRenderer {
-            schedule: RadiusSchedule::new(start, settings.alpha),
+            // The schedule is 1-based: 0-based iteration k uses its (k + 1)-th radius.
+            schedule: RadiusSchedule::at_iteration(
+                start,
+                settings.alpha,
+                film.next_iteration() + 1,
+            ),
             pixel_radii: None,
             last_scale: None,
             settings,
-            film: Film::new(bounds.width(), bounds.height()),
+            film,
             bounds,
             photons: PhotonBuffer::with_capacity(capacity),
             grid: HashGrid::new(),
@@ -201,7 +240,7 @@ impl PpmRenderer {
         scene: &Scene,
         stop: &F,
     ) -> Option<IterationStats> {
-        let iteration = self.film.iterations();
+        let iteration = self.film.next_iteration();
         let mut passes = PassTimes::default();
         let mut clock = Stopwatch::start();
         let mut pilot = RayCounters::default();
@@ -334,7 +373,8 @@ impl PpmRenderer {
 
     /// Bytes held by the render state (film, photon buffer, grid, per-pixel estimates).
     pub fn memory_bytes(&self) -> usize {
-        self.estimates.len() * (std::mem::size_of::<Vec3>() + 3 * std::mem::size_of::<f64>())
+        self.estimates.len() * std::mem::size_of::<Vec3>()
+            + self.film.memory_bytes()
             + self
                 .pixel_radii
                 .as_ref()

@@ -16,6 +16,7 @@
 
 mod grid;
 mod pixel;
+mod snapshot;
 mod splat;
 mod visible_point;
 
@@ -27,11 +28,12 @@ use super::camera_walk::RayCounters;
 use super::footprint::pilot_radii;
 use super::{
     image_bytes, trace_light_path, IterationStats, MemoryEstimate, MemoryPart, PassTimes,
-    PhotonCounters, Radius, RenderSettings, Stopwatch, MAX_LIGHT_PATHS,
+    PhotonCounters, Radius, RenderSettings, Snapshot, Stopwatch, MAX_LIGHT_PATHS,
 };
 use crate::film::{Film, Image};
 use crate::pixel_bounds::PixelBounds;
 use crate::scene::Scene;
+use crate::StateError;
 use glam::Vec3;
 use rayon::prelude::*;
 use splat::{SplatCounters, Splatter};
@@ -210,7 +212,7 @@ impl SppmRenderer {
         scene: &Scene,
         stop: &F,
     ) -> Option<IterationStats> {
-        let iteration = self.direct.iterations();
+        let iteration = self.direct.next_iteration();
         let mut passes = PassTimes::default();
         let mut clock = Stopwatch::start();
 
@@ -282,19 +284,7 @@ impl SppmRenderer {
         self.emitted += self.settings.photons as u64;
         let before = self.direct.rejected();
         self.direct.add_iteration(&self.direct_estimates);
-        let direct = self.direct.image();
-        let emitted = self.emitted as f64;
-        let bad_pixels = self
-            .image
-            .par_iter_mut()
-            .zip(direct.pixels.par_iter().zip(self.statistics.par_iter()))
-            .map(|(l, (ld, s))| {
-                let photons = s.radiance(emitted);
-                let ok = photons.is_finite();
-                *l = *ld + if ok { photons } else { Vec3::ZERO };
-                (!ok) as u64
-            })
-            .sum::<u64>();
+        let bad_pixels = self.update_image();
         self.rejected += splats.rejected + bad_pixels;
         passes.film = clock.lap();
 
@@ -308,6 +298,75 @@ impl SppmRenderer {
             rejected: self.direct.rejected() - before + splats.rejected + bad_pixels,
             passes,
         })
+    }
+
+    /// The image from the direct-light average and the statistics:
+    /// L = Ld_avg + tau / (N_e pi R^2); returns the pixels whose photon part was not finite
+    /// (left out).
+    fn update_image(&mut self) -> u64 {
+        let direct = self.direct.image();
+        let emitted = self.emitted as f64;
+        self.image
+            .par_iter_mut()
+            .zip(direct.pixels.par_iter().zip(self.statistics.par_iter()))
+            .map(|(l, (ld, s))| {
+                let photons = s.radiance(emitted);
+                let ok = photons.is_finite();
+                *l = *ld + if ok { photons } else { Vec3::ZERO };
+                (!ok) as u64
+            })
+            .sum::<u64>()
+    }
+
+    /// A render continuing from `snapshot` (whole images only): the direct-light film and
+    /// every pixel's statistics, bit for bit. A state without statistics is refused unless it
+    /// starts at iteration 0 (SPPM's iterations cannot be cut into shards: see
+    /// [`snapshot`](self::snapshot)).
+    pub fn from_snapshot(
+        scene: &Scene,
+        settings: RenderSettings,
+        snapshot: Snapshot,
+    ) -> Result<Self, StateError> {
+        let (w, h) = (scene.camera.width, scene.camera.height);
+        snapshot.check_size(w, h)?;
+        let mut renderer = Self::with_bounds(settings, PixelBounds::full(w, h));
+        if snapshot.pixels.is_empty() {
+            if snapshot.film.next_iteration() > 0 {
+                return Err(StateError::Unsupported(
+                    "sppm carries per-pixel statistics from one iteration to the next: a \
+                     render can be resumed from its own state, but not started at a later \
+                     iteration (no --shard) or from another algorithm's state"
+                        .into(),
+                ));
+            }
+            return Ok(renderer);
+        }
+        if snapshot.film.first_iteration() != 0 {
+            return Err(StateError::Unsupported(
+                "an sppm state must cover its render from the first iteration".into(),
+            ));
+        }
+        renderer.statistics = snapshot::from_channels(&snapshot.pixels, renderer.image.len())?;
+        renderer.radii_pending = false;
+        renderer.emitted = renderer.settings.photons as u64 * snapshot.film.next_iteration();
+        renderer.direct = snapshot.film;
+        renderer.rejected = renderer.update_image();
+        Ok(renderer)
+    }
+
+    /// What [`SppmRenderer::from_snapshot`] needs to continue: the direct-light film and the
+    /// statistics (whole images only: a crop's state has the crop's size and is refused by a
+    /// whole render).
+    pub fn snapshot(&self) -> Snapshot {
+        Snapshot {
+            film: self.direct.clone(),
+            pixels: snapshot::to_channels(&self.statistics),
+        }
+    }
+
+    /// The index of the first iteration in the image (always 0: SPPM is not sharded).
+    pub fn first_iteration(&self) -> u64 {
+        self.direct.first_iteration()
     }
 
     /// Every pixel's gather radius R for the next iteration, as a grey image.

@@ -1,0 +1,188 @@
+//! The EXR a render writes, with what it takes to continue or join it: the image (R, G, B,
+//! f32), the exact film sums as extra u32 channels, any per-pixel state of the integrator, and
+//! the provenance attributes. `--resume`, `--shard` and `ppm merge` read it back.
+//!
+//! Channels: `R`, `G`, `B` (the image, linear f32, what every viewer shows);
+//! `ppm.sum.R.0` .. `ppm.sum.B.3`: each channel's fixed-point sum (u128, 48 fractional bits,
+//! see `ppm_core::film`) as four u32 words, `.0` the least significant; `ppm.pixel.<name>`:
+//! an integrator's per-pixel state ([`ppm_core::integrator::PixelChannel`]). The iteration
+//! range and counts are the `ppm.*` attributes ([`Provenance`]).
+
+use crate::output::{self, PendingFile};
+use crate::provenance::Provenance;
+use anyhow::{bail, Context, Result};
+use exr::prelude::{
+    AnyChannel, AnyChannels, AttributeValue, Encoding, FlatSamples, Image as ExrImage, Layer,
+    LayerAttributes, Text, WritableImage,
+};
+use ppm_core::film::{Film, FilmParts, Image};
+use ppm_core::integrator::{PixelChannel, Snapshot};
+use std::collections::BTreeMap;
+use std::path::Path;
+
+const RGB: [&str; 3] = ["R", "G", "B"];
+const SUM_PREFIX: &str = "ppm.sum.";
+const PIXEL_PREFIX: &str = "ppm.pixel.";
+
+/// A render's saved state, as read back.
+pub struct SavedRender {
+    pub provenance: Provenance,
+    pub snapshot: Snapshot,
+}
+
+/// Writes `image` with the state `snapshot` and `provenance` (whose iteration counts are
+/// taken from the snapshot) to a temporary file beside `path`, to be committed as a pair with
+/// the PNG ([`output::commit_pair`]). `image` is passed apart from the film: for most
+/// integrators it is the film's average, for SPPM the film holds only the direct light.
+pub fn pending(
+    path: &Path,
+    image: &Image,
+    snapshot: &Snapshot,
+    provenance: &Provenance,
+) -> Result<PendingFile> {
+    let film = &snapshot.film;
+    let mut provenance = provenance.clone();
+    provenance.first_iteration = film.first_iteration();
+    provenance.iterations = film.iterations();
+    provenance.rejected = film.rejected();
+    provenance.first_rejected = film.first_rejected();
+
+    let parts = film.to_parts();
+    let mut channels = Vec::with_capacity(3 + 12 + snapshot.pixels.len());
+    for (c, name) in RGB.iter().enumerate() {
+        let values = image.pixels.iter().map(|p| p[c]).collect();
+        channels.push(AnyChannel::new(*name, FlatSamples::F32(values)));
+        for word in 0..4 {
+            let values = parts
+                .sum
+                .iter()
+                .map(|s| (s[c] >> (32 * word)) as u32)
+                .collect();
+            channels.push(AnyChannel::new(
+                format!("{SUM_PREFIX}{name}.{word}").as_str(),
+                FlatSamples::U32(values),
+            ));
+        }
+    }
+    for p in &snapshot.pixels {
+        channels.push(AnyChannel::new(
+            format!("{PIXEL_PREFIX}{}", p.name).as_str(),
+            FlatSamples::U32(p.values.clone()),
+        ));
+    }
+    let mut attributes = LayerAttributes {
+        software_name: Some(Text::from(
+            format!("ppm {}", env!("CARGO_PKG_VERSION")).as_str(),
+        )),
+        ..LayerAttributes::default()
+    };
+    for (name, value) in provenance.to_attributes() {
+        attributes.other.insert(
+            Text::from(name),
+            AttributeValue::Text(Text::from(value.as_str())),
+        );
+    }
+    let layer = Layer::new(
+        (image.width as usize, image.height as usize),
+        attributes,
+        Encoding::FAST_LOSSLESS,
+        AnyChannels::sort(channels.into()),
+    );
+    let exr_image = ExrImage::from_layer(layer);
+    PendingFile::write(path, |w| {
+        exr_image
+            .write()
+            .to_buffered(w)
+            .map_err(|e| anyhow::anyhow!("{e}"))
+    })
+}
+
+/// Writes the PNG and the EXR (with state) of a render as a pair: neither replaces its
+/// target unless both were written in full.
+pub fn write_outputs(
+    paths: &output::OutputPaths,
+    image: &Image,
+    snapshot: &Snapshot,
+    provenance: &Provenance,
+) -> Result<()> {
+    output::commit_pair(
+        paths,
+        || output::pending_png(&paths.png, image),
+        || pending(&paths.exr, image, snapshot, provenance),
+    )
+}
+
+/// Reads a render's saved state from an EXR written by [`write`]; errors name the file and
+/// what is missing or wrong.
+pub fn read(path: &Path) -> Result<SavedRender> {
+    read_inner(path).with_context(|| format!("cannot read the render state of {}", path.display()))
+}
+
+fn read_inner(path: &Path) -> Result<SavedRender> {
+    use exr::prelude::{ReadChannels, ReadLayers};
+    let image = exr::prelude::read()
+        .no_deep_data()
+        .largest_resolution_level()
+        .all_channels()
+        .first_valid_layer()
+        .all_attributes()
+        .from_file(path)
+        .map_err(|e| anyhow::anyhow!("{e}"))?;
+    let layer = &image.layer_data;
+    let (width, height) = (layer.size.width() as u32, layer.size.height() as u32);
+    let attributes: BTreeMap<String, String> = layer
+        .attributes
+        .other
+        .iter()
+        .filter_map(|(k, v)| match v {
+            AttributeValue::Text(t) => Some((k.to_string(), t.to_string())),
+            _ => None,
+        })
+        .collect();
+    let provenance = Provenance::from_attributes(&attributes, (width, height))?;
+
+    let pixel_count = width as usize * height as usize;
+    let mut channels: BTreeMap<String, &[u32]> = BTreeMap::new();
+    for channel in &layer.channel_data.list {
+        if let FlatSamples::U32(values) = &channel.sample_data {
+            if values.len() != pixel_count {
+                bail!("channel {} has {} samples", channel.name, values.len());
+            }
+            channels.insert(channel.name.to_string(), values.as_slice());
+        }
+    }
+    let mut sum = vec![[0u128; 3]; pixel_count];
+    for (c, name) in RGB.iter().enumerate() {
+        for word in 0..4 {
+            let channel = format!("{SUM_PREFIX}{name}.{word}");
+            let values = channels
+                .get(&channel)
+                .with_context(|| format!("channel {channel} (u32) is missing"))?;
+            for (s, v) in sum.iter_mut().zip(values.iter()) {
+                s[c] |= (*v as u128) << (32 * word);
+            }
+        }
+    }
+    let film = Film::from_parts(FilmParts {
+        width,
+        height,
+        sum,
+        first_iteration: provenance.first_iteration,
+        iterations: provenance.iterations,
+        rejected: provenance.rejected,
+        first_rejected: provenance.first_rejected,
+    })?;
+    let pixels = channels
+        .iter()
+        .filter_map(|(name, values)| {
+            name.strip_prefix(PIXEL_PREFIX).map(|n| PixelChannel {
+                name: n.to_string(),
+                values: values.to_vec(),
+            })
+        })
+        .collect();
+    Ok(SavedRender {
+        provenance,
+        snapshot: Snapshot { film, pixels },
+    })
+}

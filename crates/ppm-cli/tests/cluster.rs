@@ -1,0 +1,391 @@
+//! Provenance, `--resume`, `--shard` and `ppm merge` through the binary: joined and resumed
+//! renders equal single renders bit for bit (pt and ppm, 1 and 2 threads), checkpoints are
+//! resumable, and every mismatch is refused with a message naming it.
+
+mod common;
+
+use common::*;
+use std::collections::BTreeMap;
+use std::path::Path;
+
+/// Runs ppm in `dir` and asserts success.
+fn ok(dir: &Path, args: &[&str]) {
+    assert_ok(&run(dir, args));
+}
+
+/// The RGB bits of an EXR (so the last bit counts).
+fn exr_bits(path: &Path) -> Vec<[u32; 3]> {
+    read_exr(path)
+        .2
+        .iter()
+        .map(|p| p.map(f32::to_bits))
+        .collect()
+}
+
+/// The text attributes of an EXR's first layer.
+fn attributes(path: &Path) -> BTreeMap<String, String> {
+    let image = exr::prelude::read_all_flat_layers_from_file(path).unwrap();
+    image.layer_data[0]
+        .attributes
+        .other
+        .iter()
+        .filter_map(|(k, v)| match v {
+            exr::meta::attribute::AttributeValue::Text(t) => Some((k.to_string(), t.to_string())),
+            _ => None,
+        })
+        .collect()
+}
+
+/// Asserts `a.exr` and `b.exr` hold the same image bit for bit (and their PNGs the same bytes).
+fn assert_same_image(dir: &Path, a: &str, b: &str, what: &str) {
+    assert_eq!(
+        exr_bits(&dir.join(format!("{a}.exr"))),
+        exr_bits(&dir.join(format!("{b}.exr"))),
+        "{what}"
+    );
+    assert_eq!(
+        std::fs::read(dir.join(format!("{a}.png"))).unwrap(),
+        std::fs::read(dir.join(format!("{b}.png"))).unwrap(),
+        "{what}: PNG"
+    );
+}
+
+/// Runs ppm in `dir`, expects exit status 1 and returns stderr.
+fn refused(dir: &Path, args: &[&str]) -> String {
+    assert_fails(&run(dir, args), 1)
+}
+
+#[test]
+fn shards_merged_equal_a_single_render_for_pt_and_ppm_at_1_and_2_threads() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    tiny_scene(d);
+    for algorithm in ["pt", "ppm"] {
+        ok(
+            d,
+            &[
+                "tiny.yml",
+                "-a",
+                algorithm,
+                "-n",
+                "7",
+                "--seed",
+                "3",
+                "--threads",
+                "1",
+                "-o",
+                "single",
+            ],
+        );
+        for threads in ["1", "2"] {
+            for i in 0..3 {
+                let shard = format!("{i}/3");
+                let out = format!("part{i}");
+                let args = ["tiny.yml", "-a", algorithm, "-n", "7", "--seed", "3"];
+                ok(
+                    d,
+                    &[
+                        &args[..],
+                        &["--shard", &shard, "--threads", threads, "-o", &out],
+                    ]
+                    .concat(),
+                );
+            }
+            // Any order on the command line.
+            ok(
+                d,
+                &[
+                    "merge",
+                    "part2.exr",
+                    "part0.exr",
+                    "part1.exr",
+                    "-o",
+                    "merged",
+                ],
+            );
+            assert_same_image(
+                d,
+                "merged",
+                "single",
+                &format!("{algorithm}, shards on {threads} threads"),
+            );
+            let a = attributes(&d.join("merged.exr"));
+            assert_eq!(a["ppm.firstIteration"], "0");
+            assert_eq!(a["ppm.iterations"], "7");
+            assert!(
+                !a.contains_key("ppm.shard"),
+                "a merged image is not a shard"
+            );
+        }
+    }
+}
+
+#[test]
+fn resumed_render_equals_an_uninterrupted_one_for_pt_and_ppm() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    tiny_scene(d);
+    for algorithm in ["pt", "ppm"] {
+        let base = ["tiny.yml", "-a", algorithm, "--seed", "5"];
+        ok(
+            d,
+            &[&base[..], &["-n", "6", "--threads", "2", "-o", "whole"]].concat(),
+        );
+        ok(
+            d,
+            &[&base[..], &["-n", "4", "--threads", "1", "-o", "first"]].concat(),
+        );
+        ok(
+            d,
+            &[
+                &base[..],
+                &[
+                    "-n",
+                    "2",
+                    "--threads",
+                    "2",
+                    "--resume",
+                    "first.exr",
+                    "-o",
+                    "resumed",
+                ],
+            ]
+            .concat(),
+        );
+        assert_same_image(d, "resumed", "whole", algorithm);
+        // Resuming into the file it reads from works too (the write is atomic).
+        ok(
+            d,
+            &[
+                &base[..],
+                &["-n", "2", "--resume", "first.exr", "-o", "first"],
+            ]
+            .concat(),
+        );
+        assert_same_image(d, "first", "whole", algorithm);
+        let a = attributes(&d.join("first.exr"));
+        assert_eq!(
+            (a["ppm.iterations"].as_str(), a["ppm.threads"].as_str()),
+            ("6", "1,2")
+        );
+    }
+}
+
+/// A render killed after a checkpoint resumes from that checkpoint to exactly the image of an
+/// uninterrupted render of as many iterations.
+#[test]
+fn a_checkpoint_of_a_killed_render_resumes_exactly() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    tiny_scene(d);
+    let mut child = ppm(d)
+        .args([
+            "tiny.yml",
+            "-a",
+            "ppm",
+            "-n",
+            "100000",
+            "--checkpoint",
+            "0.05",
+            "-o",
+            "ck",
+        ])
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    let checkpoint = d.join("ck.exr");
+    let start = std::time::Instant::now();
+    while !checkpoint.exists() {
+        assert!(start.elapsed().as_secs() < 60, "no checkpoint within 60 s");
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    child.kill().unwrap();
+    child.wait().unwrap();
+    let done: u64 = attributes(&checkpoint)["ppm.iterations"].parse().unwrap();
+    assert!(done > 0 && done < 100_000, "{done}");
+    ok(
+        d,
+        &[
+            "tiny.yml", "-a", "ppm", "-n", "3", "--resume", "ck.exr", "-o", "resumed",
+        ],
+    );
+    let total = (done + 3).to_string();
+    ok(d, &["tiny.yml", "-a", "ppm", "-n", &total, "-o", "whole"]);
+    assert_same_image(d, "resumed", "whole", &format!("checkpoint at {done} + 3"));
+}
+
+#[test]
+fn every_exr_records_its_provenance() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    tiny_scene(d);
+    ok(
+        d,
+        &[
+            "tiny.yml",
+            "-n",
+            "4",
+            "--shard",
+            "1/2",
+            "--seed",
+            "9",
+            "--threads",
+            "2",
+            "--photons",
+            "1500",
+            "-o",
+            "p",
+        ],
+    );
+    let a = attributes(&d.join("p.exr"));
+    for (name, value) in [
+        ("ppm.version", env!("CARGO_PKG_VERSION")),
+        ("ppm.scene", "tiny.yml"),
+        ("ppm.algorithm", "ppm"),
+        ("ppm.seed", "9"),
+        ("ppm.firstIteration", "2"),
+        ("ppm.iterations", "2"),
+        ("ppm.photons", "1500"),
+        ("ppm.radius", "0.1"),
+        ("ppm.alpha", "0.7"),
+        ("ppm.maxDepth", "6"),
+        ("ppm.threads", "2"),
+        ("ppm.shard", "1/2 of 4"),
+        ("ppm.direct", "sampled"),
+    ] {
+        assert_eq!(a.get(name).map(String::as_str), Some(value), "{name}");
+    }
+    assert_eq!(a["ppm.sceneHash"].len(), 16);
+    assert!(a["ppm.renderSeconds"].parse::<f64>().unwrap() > 0.0);
+}
+
+#[test]
+fn merge_refuses_parts_of_other_scenes_seeds_algorithms_or_settings() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    tiny_scene(d);
+    // The same content under another name is the same scene; a brighter light is not.
+    std::fs::copy(d.join("tiny.yml"), d.join("copy.yml")).unwrap();
+    std::fs::write(
+        d.join("brighter.yml"),
+        TINY_SCENE.replace("[8.0, 8.0, 8.0]", "[9.0, 8.0, 8.0]"),
+    )
+    .unwrap();
+    let shard = |scene: &str, i: &str, extra: &[&str], out: &str| {
+        let args = [scene, "-n", "4", "--shard", i, "-o", out];
+        ok(d, &[&args[..], extra].concat());
+    };
+    shard("tiny.yml", "0/2", &[], "a0");
+    shard("tiny.yml", "1/2", &[], "a1");
+    shard("copy.yml", "1/2", &[], "copy1");
+    ok(d, &["merge", "a0.exr", "copy1.exr", "-o", "m"]);
+    shard("brighter.yml", "1/2", &[], "scene1");
+    shard("tiny.yml", "1/2", &["--seed", "1"], "seed1");
+    shard("tiny.yml", "1/2", &["-a", "pt"], "pt1");
+    shard("tiny.yml", "1/2", &["--photons", "999"], "photons1");
+    shard("tiny.yml", "1/2", &["--width", "8"], "size1");
+    for (part, expected) in [
+        ("scene1.exr", "scene content"),
+        ("seed1.exr", "ppm.seed: 0 vs 1"),
+        ("pt1.exr", "ppm.algorithm: ppm vs pt"),
+        ("photons1.exr", "ppm.photons: 2000 vs 999"),
+        ("size1.exr", "resolution: 16x12 vs 8x6"),
+    ] {
+        let err = refused(d, &["merge", "a0.exr", part, "-o", "m"]);
+        assert!(
+            err.contains(expected) && err.contains(part),
+            "{part}: {err}"
+        );
+    }
+}
+
+#[test]
+fn merge_refuses_overlapping_or_missing_slices() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    tiny_scene(d);
+    for i in 0..3 {
+        ok(
+            d,
+            &[
+                "tiny.yml",
+                "-n",
+                "6",
+                "--shard",
+                &format!("{i}/3"),
+                "-o",
+                &format!("s{i}"),
+            ],
+        );
+    }
+    let err = refused(
+        d,
+        &["merge", "s0.exr", "s1.exr", "s1.exr", "s2.exr", "-o", "m"],
+    );
+    assert!(err.contains("overlap") && err.contains("2..4"), "{err}");
+    let err = refused(d, &["merge", "s0.exr", "s2.exr", "-o", "m"]);
+    assert!(err.contains("iterations 2..4 are missing"), "{err}");
+    let err = refused(d, &["merge", "s1.exr", "s2.exr", "-o", "m"]);
+    assert!(err.contains("iterations 0..2 are missing"), "{err}");
+    let err = refused(d, &["merge", "s0.exr", "s1.exr", "-o", "m"]);
+    assert!(
+        err.contains("iterations 4..6") && err.contains("missing"),
+        "{err}"
+    );
+    // An EXR without a render state (another renderer's) is named.
+    write_exr(&d.join("other.exr"), 16, 12, |_, _| [1.0; 3]);
+    let err = refused(d, &["merge", "s0.exr", "other.exr", "-o", "m"]);
+    assert!(
+        err.contains("other.exr") && err.contains("ppm.state"),
+        "{err}"
+    );
+    assert!(!d.join("m.exr").exists(), "nothing written on refusal");
+    ok(d, &["merge", "s2.exr", "s1.exr", "s0.exr", "-o", "m"]);
+}
+
+#[test]
+fn resume_refuses_another_scene_or_settings_and_shard_needs_iterations() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    tiny_scene(d);
+    std::fs::write(
+        d.join("brighter.yml"),
+        TINY_SCENE.replace("[8.0, 8.0, 8.0]", "[9.0, 8.0, 8.0]"),
+    )
+    .unwrap();
+    ok(d, &["tiny.yml", "-n", "2", "-o", "r"]);
+    for (args, expected) in [
+        (&["tiny.yml", "--seed", "4"][..], "ppm.seed: 4 vs 0"),
+        (&["tiny.yml", "-a", "pt"], "ppm.algorithm: pt vs ppm"),
+        (&["tiny.yml", "--alpha", "0.5"], "ppm.alpha: 0.5 vs 0.7"),
+        (&["brighter.yml"], "scene content"),
+    ] {
+        let err = refused(
+            d,
+            &[args, &["-n", "1", "--resume", "r.exr", "-o", "x"]].concat(),
+        );
+        assert!(
+            err.contains(expected) && err.contains("r.exr"),
+            "{args:?}: {err}"
+        );
+    }
+    let err = refused(
+        d,
+        &["tiny.yml", "-n", "1", "--resume", "missing.exr", "-o", "x"],
+    );
+    assert!(err.contains("missing.exr"), "{err}");
+    // A shard resumed as another shard.
+    ok(d, &["tiny.yml", "-n", "4", "--shard", "0/2", "-o", "s0"]);
+    let err = refused(
+        d,
+        &[
+            "tiny.yml", "-n", "4", "--shard", "1/2", "--resume", "s0.exr", "-o", "x",
+        ],
+    );
+    assert!(err.contains("0..2") && err.contains("2..4"), "{err}");
+    // Usage errors: --shard without -n, or out of range.
+    assert_fails(&run(d, &["tiny.yml", "--shard", "0/2"]), 2);
+    assert_fails(&run(d, &["tiny.yml", "-n", "4", "--shard", "2/2"]), 2);
+    let err = refused(d, &["tiny.yml", "-n", "2", "--shard", "0/3"]);
+    assert!(err.contains("empty"), "{err}");
+}
