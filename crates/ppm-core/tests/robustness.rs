@@ -47,9 +47,11 @@ fn max_depth_is_bounded_in_a_mirror_box() {
         let mut renderer = Renderer::new(&scene, &settings);
         let stats = renderer.iterate(&scene);
         let pixels = 16u64;
+        // Photon mapping adds its light paths, and with the default `auto` radius the first
+        // iteration's pilot pass (one path per pixel, bounded like an eye path).
         let bound = pixels * (MAX_DEPTH as u64 + 1)
             + if algorithm == Algorithm::Ppm {
-                64 * MAX_DEPTH as u64
+                64 * MAX_DEPTH as u64 + pixels * (MAX_DEPTH as u64 + 1)
             } else {
                 0
             };
@@ -67,7 +69,7 @@ fn max_depth_is_bounded_in_a_mirror_box() {
 #[test]
 fn an_abandoned_iteration_leaves_no_trace() {
     let scene = cornell(24, BoxContents::Diffuse);
-    for algorithm in [Algorithm::Path, Algorithm::Ppm] {
+    for algorithm in [Algorithm::Path, Algorithm::Ppm, Algorithm::Sppm] {
         let settings = RenderSettings {
             algorithm,
             photons: 5000,
@@ -114,7 +116,7 @@ fn an_abandoned_iteration_leaves_no_trace() {
 #[test]
 fn memory_estimates_cover_what_the_integrators_allocate() {
     let scene = cornell(32, BoxContents::Diffuse);
-    for algorithm in [Algorithm::Path, Algorithm::Ppm] {
+    for algorithm in [Algorithm::Path, Algorithm::Ppm, Algorithm::Sppm] {
         let settings = RenderSettings {
             algorithm,
             photons: 20_000,

@@ -5,7 +5,7 @@
 mod test_scenes;
 
 use ppm_core::film::Film;
-use ppm_core::integrator::{PixelChannel, Snapshot};
+use ppm_core::integrator::{PixelChannel, Radius, Snapshot};
 use ppm_core::prelude::*;
 use ppm_core::StateError;
 use test_scenes::{cornell, BoxContents};
@@ -167,4 +167,72 @@ fn snapshots_that_do_not_fit_are_refused() {
             Err(StateError::Unsupported(_))
         ));
     }
+}
+
+/// SPPM carries per-pixel statistics (R², N, tau) from one iteration to the next: a saved
+/// state resumes to the uninterrupted render's image bit for bit at any thread count, and
+/// both the auto and a world radius survive the round trip.
+#[test]
+fn sppm_resumes_bit_for_bit_from_its_statistics_at_1_and_2_threads() {
+    let scene = cornell(20, BoxContents::Glass);
+    for radius in [Radius::Auto, Radius::World(0.05)] {
+        let settings = RenderSettings {
+            radius,
+            ..settings(&scene, Algorithm::Sppm)
+        };
+        let run = |snapshot: Snapshot, iterations: u64, threads: usize| {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            pool.install(|| {
+                let mut renderer = Renderer::from_snapshot(&scene, &settings, snapshot).unwrap();
+                for _ in 0..iterations {
+                    renderer.iterate(&scene);
+                }
+                let image: Vec<[u32; 3]> = renderer
+                    .image()
+                    .pixels
+                    .iter()
+                    .map(|p| p.to_array().map(f32::to_bits))
+                    .collect();
+                (image, renderer.snapshot())
+            })
+        };
+        let fresh = || Snapshot::starting_at(20, 20, 0);
+        let (whole_image, whole_state) = run(fresh(), 6, 2);
+        assert!(whole_state.pixels.len() == 10, "sppm saves its statistics");
+        for (before, after) in [(1, 2), (2, 1)] {
+            let (_, stopped) = run(fresh(), 4, before);
+            let (image, state) = run(stopped, 2, after);
+            assert!(
+                image == whole_image,
+                "{radius:?}: 4 iterations on {before} threads, 2 more on {after}"
+            );
+            assert_eq!(state, whole_state);
+        }
+    }
+}
+
+/// SPPM's iteration k depends on every iteration before it: no shard starts later than 0,
+/// and its states are never merged.
+#[test]
+fn sppm_refuses_shards_and_merges() {
+    let scene = cornell(8, BoxContents::Diffuse);
+    let settings = settings(&scene, Algorithm::Sppm);
+    let late = Snapshot::starting_at(8, 8, 3);
+    let err = Renderer::from_snapshot(&scene, &settings, late)
+        .err()
+        .expect("a late sppm slice is refused")
+        .to_string();
+    assert!(err.contains("shard"), "{err}");
+    let mut renderer = Renderer::new(&scene, &settings);
+    renderer.iterate(&scene);
+    let mut first = renderer.snapshot();
+    renderer.iterate(&scene);
+    let second = renderer.snapshot();
+    assert!(matches!(
+        first.append(&second),
+        Err(StateError::Unsupported(_))
+    ));
 }

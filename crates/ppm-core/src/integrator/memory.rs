@@ -59,10 +59,11 @@ impl MemoryEstimate {
     }
 }
 
-/// Bytes per pixel common to both integrators: the iteration's estimate (f32 RGB), the film's
-/// f64 RGB sum and one f32 RGB image returned by `image()`.
+/// Bytes per pixel common to every integrator: the iteration's estimate (f32 RGB), the film's
+/// exact fixed-point RGB sum (u128 per channel, see [`crate::film::Film`]) and one f32 RGB
+/// image returned by `image()`.
 pub const BYTES_PER_PIXEL: u64 =
-    (2 * std::mem::size_of::<Vec3>() + 3 * std::mem::size_of::<f64>()) as u64;
+    (2 * std::mem::size_of::<Vec3>() + 3 * std::mem::size_of::<u128>()) as u64;
 
 /// Bytes per photon slot of photon mapping: the append buffer's photon, the hash grid's
 /// sorted copy, its columns (position, flux and direction, 9 f32), the bucket of each photon
