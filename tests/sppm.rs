@@ -7,26 +7,7 @@ mod test_scenes;
 use ppm_core::prelude::*;
 use ppm_tests::{load_small, SCENES};
 
-use test_scenes::{render_stats, z_scores, PixelStats};
-
-/// `seeds` independent SPPM renders of `iterations` iterations; their final images are the
-/// samples (SPPM's iterations share per-pixel statistics, whole renders are independent).
-fn sppm_stats(scene: &Scene, settings: &RenderSettings, seeds: u64, iterations: u32) -> PixelStats {
-    let mut stats = PixelStats::new((scene.camera.width * scene.camera.height) as usize);
-    for seed in 0..seeds {
-        let settings = RenderSettings {
-            seed: settings.seed + seed,
-            ..settings.clone()
-        };
-        let mut r = Renderer::new(scene, &settings);
-        for _ in 0..iterations {
-            r.iterate(scene);
-        }
-        assert_eq!(r.rejected(), 0, "NaN or Inf samples");
-        stats.add(&r.image().pixels);
-    }
-    stats
-}
+use test_scenes::{render_stats, sppm_stats, z_scores};
 
 #[test]
 fn sppm_converges_to_the_path_traced_image_on_every_scene() {

@@ -2,6 +2,7 @@
 
 use crate::StateError;
 use glam::Vec3;
+use rayon::prelude::*;
 
 /// A linear RGB image, row-major from the top-left pixel.
 #[derive(Clone, Debug, PartialEq)]
@@ -54,8 +55,17 @@ pub const MAX_ESTIMATE: f64 = (1u64 << 56) as f64;
 /// An estimate as a whole number of 2^-48 units (`e` finite and >= 0), clamped at
 /// [`MAX_ESTIMATE`]: e * 2^48 is exact in f64 (24 significant bits shifted), so only the
 /// rounding of values below 2^-25 loses anything.
+/// Values below 2^64 units (estimates below 2^16) take the hardware f64-to-u64 conversion;
+/// only larger ones the slower software conversion to u128 (the same value either way).
+#[inline]
 fn to_fixed(e: f32) -> u128 {
-    ((e as f64).min(MAX_ESTIMATE) * FIXED_POINT_SCALE).round() as u128
+    const U64_RANGE: f64 = 18_446_744_073_709_551_616.0; // 2^64
+    let units = ((e as f64).min(MAX_ESTIMATE) * FIXED_POINT_SCALE).round();
+    if units < U64_RANGE {
+        units as u64 as u128
+    } else {
+        units as u128
+    }
 }
 
 /// A fixed-point sum as a value.
@@ -156,17 +166,36 @@ impl Film {
     /// Adds one iteration: one estimate per pixel, row-major. Non-finite or negative estimates
     /// are dropped (counted in [`Film::rejected`]) and count as zero.
     pub fn add_iteration(&mut self, estimates: &[Vec3]) {
+        /// Pixels per parallel work item.
+        const CHUNK: usize = 4096;
         assert_eq!(estimates.len(), self.sum.len());
         let iteration = self.next_iteration();
-        for (pixel, (s, e)) in self.sum.iter_mut().zip(estimates).enumerate() {
-            if e.is_finite() && e.min_element() >= 0.0 {
-                for (c, v) in s.iter_mut().zip(e.to_array()) {
-                    *c = c.saturating_add(to_fixed(v));
+        // Each chunk counts its rejected estimates and its first one; chunks are reduced in
+        // pixel order, so the first rejected pixel is the same at any thread count.
+        let (rejected, first) = self
+            .sum
+            .par_chunks_mut(CHUNK)
+            .zip(estimates.par_chunks(CHUNK))
+            .enumerate()
+            .map(|(chunk, (sums, estimates))| {
+                let mut rejected = 0u64;
+                let mut first = None;
+                for (i, (s, e)) in sums.iter_mut().zip(estimates).enumerate() {
+                    if e.is_finite() && e.min_element() >= 0.0 {
+                        for (c, v) in s.iter_mut().zip(e.to_array()) {
+                            *c = c.saturating_add(to_fixed(v));
+                        }
+                    } else {
+                        rejected += 1;
+                        first.get_or_insert((chunk * CHUNK + i) as u32);
+                    }
                 }
-            } else {
-                self.rejected += 1;
-                self.first_rejected.get_or_insert((iteration, pixel as u32));
-            }
+                (rejected, first)
+            })
+            .reduce(|| (0, None), |(ra, fa), (rb, fb)| (ra + rb, fa.or(fb)));
+        self.rejected += rejected;
+        if let Some(pixel) = first {
+            self.first_rejected.get_or_insert((iteration, pixel));
         }
         self.iterations += 1;
     }

@@ -6,27 +6,7 @@ mod test_scenes;
 
 use ppm_core::integrator::SppmRenderer;
 use ppm_core::prelude::*;
-use test_scenes::{assert_uniform_image, cornell, furnace, BoxContents, PixelStats};
-
-/// `seeds` independent SPPM renders of `iterations` iterations each; their final images are
-/// the samples of the per-pixel statistics (SPPM's iterations share per-pixel state, so
-/// unlike `ppm` they are not independent samples: whole renders are).
-fn sppm_stats(scene: &Scene, settings: &RenderSettings, seeds: u64, iterations: u32) -> PixelStats {
-    let mut stats = PixelStats::new((scene.camera.width * scene.camera.height) as usize);
-    for seed in 0..seeds {
-        let settings = RenderSettings {
-            seed: settings.seed + seed,
-            ..settings.clone()
-        };
-        let mut r = Renderer::new(scene, &settings);
-        for _ in 0..iterations {
-            r.iterate(scene);
-        }
-        assert_eq!(r.rejected(), 0, "NaN or Inf samples");
-        stats.add(&r.image().pixels);
-    }
-    stats
-}
+use test_scenes::{assert_uniform_image, cornell, furnace, sppm_stats, BoxContents};
 
 #[test]
 fn sppm_furnace_converges_to_five() {

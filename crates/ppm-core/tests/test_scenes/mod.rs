@@ -219,6 +219,31 @@ pub fn render_stats(scene: &Scene, settings: &RenderSettings, iterations: u32) -
     stats
 }
 
+/// `seeds` independent SPPM renders of `iterations` iterations each; their final images are
+/// the samples of the per-pixel statistics (SPPM's iterations share per-pixel state, so
+/// unlike `ppm` they are not independent samples: whole renders are).
+pub fn sppm_stats(
+    scene: &Scene,
+    settings: &RenderSettings,
+    seeds: u64,
+    iterations: u32,
+) -> PixelStats {
+    let mut stats = PixelStats::new((scene.camera.width * scene.camera.height) as usize);
+    for seed in 0..seeds {
+        let settings = RenderSettings {
+            seed: settings.seed + seed,
+            ..settings.clone()
+        };
+        let mut r = Renderer::new(scene, &settings);
+        for _ in 0..iterations {
+            r.iterate(scene);
+        }
+        assert_eq!(r.rejected(), 0, "NaN or Inf samples");
+        stats.add(&r.image().pixels);
+    }
+    stats
+}
+
 /// Two-sample z statistics per pixel and channel between independent estimates a and b:
 /// z = (mean_a - mean_b) / sqrt(var_a + var_b). Returns all z values (pixels with zero
 /// variance on both sides and equal means are skipped).
