@@ -585,3 +585,23 @@ fn mtl_oddities_warn_instead_of_failing() {
         );
     }
 }
+
+/// A byte order mark before an OBJ's and its MTL's first statement is dropped: left in, it
+/// glued itself to the first `v`, which was then ignored with a warning and the faces that
+/// used that vertex were refused.
+#[test]
+fn byte_order_marks_of_obj_and_mtl_files_are_ignored() {
+    let dir = write_files(
+        "obj_bom",
+        &[
+            (
+                "bom.obj",
+                "\u{feff}v 0 0 0\nv 1 0 0\nv 0 1 0\nmtllib bom.mtl\nusemtl red\nf 1 2 3\n",
+            ),
+            ("bom.mtl", "\u{feff}newmtl red\nKd 0.8 0.1 0.1\n"),
+        ],
+    );
+    let (data, warnings) = load(&dir, "bom.obj");
+    assert!(warnings.is_empty(), "{warnings:?}");
+    assert_eq!(triangles(&data).len(), 1);
+}

@@ -189,7 +189,10 @@ pub(crate) fn read_text(path: &Path, what: &str) -> Result<String, LoadError> {
         )));
     }
     let bytes = std::fs::read(path).map_err(io)?;
-    Ok(String::from_utf8_lossy(&bytes).into_owned())
+    // A UTF-8 byte order mark (written by some Windows editors and exporters) is not part of
+    // the text: left in, it would glue itself to the first statement (an OBJ's first `v`).
+    let bytes = bytes.strip_prefix("\u{feff}".as_bytes()).unwrap_or(&bytes);
+    Ok(String::from_utf8_lossy(bytes).into_owned())
 }
 
 /// What a non-regular file is, for messages: "a folder", "a FIFO (named pipe)"...
