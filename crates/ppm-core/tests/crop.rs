@@ -1,5 +1,5 @@
 //! Crop windows: a render of a window of the image gives exactly the full render's pixels in
-//! that window, for both integrators (random streams are keyed by the full image's pixel index).
+//! that window, for every integrator (random streams are keyed by the full image's pixel index).
 
 mod test_scenes;
 
@@ -27,7 +27,7 @@ fn crop_window_pixels_equal_the_full_renders() {
         y1: 14,
         full_width: w,
     };
-    for algorithm in [Algorithm::Path, Algorithm::Ppm] {
+    for algorithm in [Algorithm::Path, Algorithm::Ppm, Algorithm::Sppm] {
         let settings = RenderSettings {
             algorithm,
             seed: 11,
