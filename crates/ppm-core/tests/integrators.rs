@@ -6,7 +6,8 @@ mod test_scenes;
 use ppm_core::integrator::{LightStrategy, PpmRenderer};
 use ppm_core::prelude::*;
 use test_scenes::{
-    assert_uniform_image, cornell, cornell_builder, furnace, render_stats, z_scores, BoxContents,
+    assert_uniform_image, cornell, cornell_builder, furnace, render_on_threads, render_stats,
+    z_scores, BoxContents,
 };
 
 fn pt_settings(scene: &Scene) -> RenderSettings {
@@ -187,19 +188,7 @@ fn same_seed_same_image_at_any_thread_count() {
             photons: 5_000,
             ..RenderSettings::new(&scene)
         };
-        let render = |threads| {
-            let pool = rayon::ThreadPoolBuilder::new()
-                .num_threads(threads)
-                .build()
-                .unwrap();
-            pool.install(|| {
-                let mut r = Renderer::new(&scene, &settings);
-                for _ in 0..3 {
-                    r.iterate(&scene);
-                }
-                r.image()
-            })
-        };
+        let render = |threads| render_on_threads(&scene, &settings, 3, threads);
         let one = render(1);
         assert_eq!(one, render(2), "{algorithm:?}: 1 vs 2 threads");
         assert_eq!(one, render(3), "{algorithm:?}: 1 vs 3 threads");

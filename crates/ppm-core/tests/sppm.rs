@@ -6,7 +6,9 @@ mod test_scenes;
 
 use ppm_core::integrator::SppmRenderer;
 use ppm_core::prelude::*;
-use test_scenes::{assert_uniform_image, cornell, furnace, sppm_stats, BoxContents};
+use test_scenes::{
+    assert_uniform_image, cornell, furnace, render_on_threads, sppm_stats, BoxContents,
+};
 
 #[test]
 fn sppm_furnace_converges_to_five() {
@@ -37,19 +39,7 @@ fn sppm_same_seed_same_image_at_any_thread_count() {
             direct,
             ..RenderSettings::for_algorithm(&scene, Algorithm::Sppm)
         };
-        let render = |threads| {
-            let pool = rayon::ThreadPoolBuilder::new()
-                .num_threads(threads)
-                .build()
-                .unwrap();
-            pool.install(|| {
-                let mut r = Renderer::new(&scene, &settings);
-                for _ in 0..3 {
-                    r.iterate(&scene);
-                }
-                r.image()
-            })
-        };
+        let render = |threads| render_on_threads(&scene, &settings, 3, threads);
         let one = render(1);
         assert_eq!(one, render(2), "{direct:?}: 1 vs 2 threads");
         assert_eq!(one, render(3), "{direct:?}: 1 vs 3 threads");

@@ -219,6 +219,27 @@ pub fn render_stats(scene: &Scene, settings: &RenderSettings, iterations: u32) -
     stats
 }
 
+/// The image of `iterations` iterations rendered on a pool of `threads` threads, for the
+/// thread-count determinism tests.
+pub fn render_on_threads(
+    scene: &Scene,
+    settings: &RenderSettings,
+    iterations: u32,
+    threads: usize,
+) -> Image {
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .unwrap();
+    pool.install(|| {
+        let mut r = Renderer::new(scene, settings);
+        for _ in 0..iterations {
+            r.iterate(scene);
+        }
+        r.image()
+    })
+}
+
 /// `seeds` independent SPPM renders of `iterations` iterations each; their final images are
 /// the samples of the per-pixel statistics (SPPM's iterations share per-pixel state, so
 /// unlike `ppm` they are not independent samples: whole renders are).
