@@ -1,13 +1,13 @@
 //! The scale-free initial radius (`Radius::Auto`): the same scene at x100 and x0.01 scale, and
-//! with a floor reaching 30 times further, renders the same image near the object; the old
-//! default (0.5% of the scene's diagonal) does not; and the per-pixel radii are deterministic
-//! at any thread count.
+//! with a floor reaching 30 times further, renders the same image near the object, with `ppm`
+//! and with `sppm`; the old default (0.5% of the scene's diagonal) does not; and the per-pixel
+//! radii are deterministic at any thread count.
 
 mod test_scenes;
 
 use ppm_core::integrator::{footprint_radius, pilot_radii, RayCounters};
 use ppm_core::prelude::*;
-use test_scenes::{render_stats, PixelStats};
+use test_scenes::{render_stats, sppm_stats, PixelStats};
 
 const RESOLUTION: u32 = 40;
 const ITERATIONS: u32 = 48;
@@ -110,6 +110,21 @@ fn render(scene: &Scene, radius: Radius, seed: u64) -> PixelStats {
     render_stats(scene, &settings, ITERATIONS)
 }
 
+/// SPPM's iterations share each pixel's radius and flux, so its samples are whole renders:
+/// `SPPM_SEEDS` of `SPPM_ITERATIONS` each (seeds `seed * SPPM_SEEDS ..`).
+fn render_sppm(scene: &Scene, radius: Radius, seed: u64) -> PixelStats {
+    let settings = RenderSettings {
+        photons: PHOTONS,
+        radius,
+        seed: seed * SPPM_SEEDS,
+        ..RenderSettings::for_algorithm(scene, Algorithm::Sppm)
+    };
+    sppm_stats(scene, &settings, SPPM_SEEDS, SPPM_ITERATIONS)
+}
+
+const SPPM_SEEDS: u64 = 16;
+const SPPM_ITERATIONS: u32 = 16;
+
 /// The bound on the mean z^2 over the crop: its expectation is 1 for two renders of the same
 /// image; the variance estimates from 48 iterations are themselves noisy (heavy-tailed
 /// caustic pixels), which 1.6 leaves room for, while a change of the expected image by a
@@ -138,6 +153,28 @@ fn auto_radius_renders_the_same_image_at_any_scale_and_floor_extent() {
     }
 }
 
+/// As above for `sppm`. Its per-pixel variances come from 16 whole renders (Student's t with
+/// 15 degrees of freedom on each side), which raises the expected mean z^2 to about 1.15.
+#[test]
+fn sppm_auto_radius_renders_the_same_image_at_any_scale_and_floor_extent() {
+    let pixels = near_pixels();
+    let reference = render_sppm(&sphere_on_floor(1.0, 3.0), Radius::Auto, 1);
+    let variants = [
+        ("x100", sphere_on_floor(100.0, 3.0)),
+        ("x0.01", sphere_on_floor(0.01, 3.0)),
+        ("floor 30x further", sphere_on_floor(1.0, 90.0)),
+    ];
+    for (k, (name, scene)) in variants.iter().enumerate() {
+        let other = render_sppm(scene, Radius::Auto, 2 + k as u64);
+        let z2 = mean_z2(&reference, &other, &pixels);
+        println!("sppm auto, {name}: mean z^2 = {z2:.3}");
+        assert!(
+            z2 < SAME_IMAGE,
+            "sppm auto radius, {name}: mean z^2 = {z2:.3}"
+        );
+    }
+}
+
 /// The test above has the power to fail: the old default, a radius of 0.5% of the bounding
 /// box's diagonal, blurs the caustic and the contact shadow 30 times more with the far floor
 /// (the same test statistic then far exceeds the bound), while at the same scale it agrees.
@@ -154,6 +191,15 @@ fn the_old_scene_relative_default_fails_the_extent_test() {
     assert!(
         z2 > 4.0 * SAME_IMAGE,
         "the old default should fail the extent test, mean z^2 = {z2:.3}"
+    );
+    // The same for sppm (measured: mean z^2 about 3400).
+    let a = render_sppm(&small, old(&small), 1);
+    let b = render_sppm(&large, old(&large), 2);
+    let z2 = mean_z2(&a, &b, &pixels);
+    println!("sppm, old default, floor 30x further: mean z^2 = {z2:.3}");
+    assert!(
+        z2 > 4.0 * SAME_IMAGE,
+        "sppm: the old default should fail the extent test, mean z^2 = {z2:.3}"
     );
 }
 
