@@ -104,7 +104,9 @@ pub struct RenderArgs {
     #[arg(short, long)]
     pub verbose: bool,
     /// Extra images written next to the render (photon mapping): `radius` writes
-    /// <output>.radius.exr, each pixel's gather radius in the last iteration (scene units).
+    /// <output>.radius.exr, each pixel's gather radius in the last iteration (scene units);
+    /// `photons` writes <output>.photons.exr, how many photons each pixel's estimate rests on
+    /// (sppm: its accumulated count N; ppm: the last iteration's photons in its radius).
     #[arg(long, value_enum, value_name = "NAME")]
     pub aov: Vec<AovArg>,
     /// Render only slice I (0-based) of K equal slices of the -n iterations; join the K
@@ -122,6 +124,10 @@ pub struct RenderArgs {
 pub enum AovArg {
     /// Each pixel's gather radius in the last iteration, in scene units (grey EXR).
     Radius,
+    /// How many photons each pixel's estimate rests on (grey EXR): sppm's accumulated count
+    /// N, or for ppm the last iteration's photons within the pixel's radius at its first
+    /// diffuse visible point.
+    Photons,
 }
 
 impl AovArg {
@@ -129,6 +135,7 @@ impl AovArg {
     pub fn name(self) -> &'static str {
         match self {
             AovArg::Radius => "radius",
+            AovArg::Photons => "photons",
         }
     }
 }
@@ -384,6 +391,10 @@ mod tests {
         assert_eq!(parse(&["s.yml"]).unwrap().render.settings.radius, None);
         let r = parse(&["s.yml", "--aov", "radius"]).unwrap().render;
         assert_eq!(r.aov, [AovArg::Radius]);
+        let r = parse(&["s.yml", "--aov", "radius", "--aov", "photons"])
+            .unwrap()
+            .render;
+        assert_eq!(r.aov, [AovArg::Radius, AovArg::Photons]);
         assert!(parse(&["s.yml", "--aov", "depth"]).is_err());
     }
 

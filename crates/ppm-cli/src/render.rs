@@ -144,7 +144,10 @@ pub fn run(args: &RenderArgs, interrupt: &Interrupt) -> Result<Outcome> {
         output::check_writable(log)?;
     }
     if !args.aov.is_empty() && args.algorithm == AlgorithmArg::Pt {
-        bail!("--aov radius needs photon mapping (-a ppm): the path tracer has no radius");
+        bail!(
+            "--aov {} needs photon mapping (-a ppm or -a sppm): the path tracer gathers no photons",
+            args.aov[0].name()
+        );
     }
     for aov in &args.aov {
         output::check_writable(&paths.aov(aov.name()))?;
@@ -281,6 +284,9 @@ pub fn run(args: &RenderArgs, interrupt: &Interrupt) -> Result<Outcome> {
                 .iter()
                 .filter_map(|&aov| match aov {
                     AovArg::Radius => renderer.radius_image().map(|image| (aov, image)),
+                    AovArg::Photons => renderer
+                        .photon_count_image(&scene)
+                        .map(|image| (aov, image)),
                 })
                 .collect();
             Ok((

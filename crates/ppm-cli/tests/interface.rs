@@ -392,3 +392,42 @@ fn info_prints_the_exr_header() {
         "{err}"
     );
 }
+
+#[test]
+fn aov_images_are_written_beside_the_render() {
+    let dir = tempfile::tempdir().unwrap();
+    tiny_scene(dir.path());
+    for algorithm in ["ppm", "sppm"] {
+        let out = format!("{algorithm}.exr");
+        ok(
+            dir.path(),
+            &[
+                "tiny.yml", "-n", "3", "-a", algorithm, "--aov", "radius", "--aov", "photons",
+                "-o", &out,
+            ],
+        );
+        let (w, h, _) = read_exr(&dir.path().join(&out));
+        let (rw, rh, radius) = read_exr(&dir.path().join(format!("{algorithm}.radius.exr")));
+        let (pw, ph, photons) = read_exr(&dir.path().join(format!("{algorithm}.photons.exr")));
+        assert_eq!((rw, rh, pw, ph), (w, h, w, h), "{algorithm}");
+        assert!(
+            radius.iter().all(|p| p[0] > 0.0 && p[0].is_finite()),
+            "{algorithm}"
+        );
+        // Grey, non-negative counts (sppm's N is alpha-weighted, so not always whole), and
+        // some pixel gathered photons.
+        assert!(
+            photons.iter().all(|p| p[0] >= 0.0 && p == &[p[0]; 3]),
+            "{algorithm}"
+        );
+        assert!(
+            photons.iter().any(|p| p[0] > 0.0),
+            "{algorithm}: no photons"
+        );
+    }
+    let err = assert_fails(
+        &run(dir.path(), &["tiny.yml", "-a", "pt", "--aov", "photons"]),
+        1,
+    );
+    assert!(err.contains("--aov photons needs photon mapping"), "{err}");
+}

@@ -12,7 +12,7 @@ use super::LightStrategy;
 use crate::camera::Camera;
 use crate::sampling::Rng;
 use crate::scene::Scene;
-use glam::Vec2;
+use glam::{Vec2, Vec3};
 use rayon::prelude::*;
 
 /// Pixel widths in an auto radius. One pixel would blur nothing visible but gather few photons
@@ -41,13 +41,74 @@ pub fn footprint_radius(camera: &Camera, length: f32) -> f32 {
     FOOTPRINT_PIXELS * camera.pixel_angle() * length
 }
 
-/// The initial radius of every pixel (row-major) for [`super::Radius::Auto`], from one pilot
-/// path per pixel through its centre: the path follows specular and glossy lobes (sampled as
-/// the eye pass does, with its own random stream keyed by (seed, pixel)) to its first vertex
-/// with a diffuse part, and the radius is [`footprint_radius`] at its path length. Pixels
-/// whose pilot finds no such vertex (the background, a path absorbed on the way) take the
-/// median of the others' radii; if no pixel finds one the scene has nothing to gather on and
-/// 0.5% of the scene's diagonal stands in.
+/// Where a pixel's pilot path (see [`pilot_points`]) first meets a surface with a diffuse part.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PilotPoint {
+    /// The path's length from the camera to the point (the sum of its segments).
+    pub length: f32,
+    /// The point, in world space.
+    pub position: Vec3,
+}
+
+/// One pilot path per pixel (row-major) through the pixel's centre: the path follows specular
+/// and glossy lobes (sampled as the eye pass does, with its own random stream keyed by
+/// (seed, pixel)) to its first vertex with a diffuse part, or `None` when it finds none (the
+/// background, a path absorbed on the way). The same seed gives the same points.
+pub fn pilot_points(
+    scene: &Scene,
+    seed: u64,
+    max_depth: u32,
+    rr_depth: u32,
+    counters: &mut RayCounters,
+) -> Vec<Option<PilotPoint>> {
+    let camera = &scene.camera;
+    let width = camera.width as usize;
+    let pixels = width * camera.height as usize;
+    let params = WalkParams {
+        max_depth,
+        rr_depth,
+        emission: LightStrategy::Mis,
+    };
+    let mut points = vec![None; pixels];
+    let total = points
+        .par_chunks_mut(width)
+        .enumerate()
+        .map(|(y, row)| {
+            let mut row_counters = RayCounters::default();
+            for (x, out) in row.iter_mut().enumerate() {
+                let pixel = (y * width + x) as u64;
+                let mut rng = Rng::new(seed ^ PILOT_STREAM, 0, pixel);
+                let ray = camera.generate_ray(Vec2::new(x as f32 + 0.5, y as f32 + 0.5));
+                walk(
+                    scene,
+                    params,
+                    ray,
+                    &mut rng,
+                    &mut row_counters,
+                    |w, v, _| {
+                        if v.bsdf.diffuse_part().is_some() {
+                            *out = Some(PilotPoint {
+                                length: w.length,
+                                position: v.hit.p,
+                            });
+                            return Next::Stop;
+                        }
+                        v.bsdf.non_diffuse_part().map_or(Next::Stop, Next::Scatter)
+                    },
+                );
+            }
+            row_counters
+        })
+        .reduce(RayCounters::default, RayCounters::merge);
+    counters.rays += total.rays;
+    counters.shadow_rays += total.shadow_rays;
+    points
+}
+
+/// The initial radius of every pixel (row-major) for [`super::Radius::Auto`]:
+/// [`footprint_radius`] at the path length of the pixel's [`pilot_points`]. Pixels whose
+/// pilot finds no diffuse vertex take the median of the others' radii; if no pixel finds one
+/// the scene has nothing to gather on and 0.5% of the scene's diagonal stands in.
 ///
 /// The pilot's random numbers are its own, drawn before and independently of every
 /// iteration's, so the radii are fixed, not random, for the iterations' estimates.
@@ -58,46 +119,10 @@ pub fn pilot_radii(
     rr_depth: u32,
     counters: &mut RayCounters,
 ) -> Vec<f32> {
-    let camera = &scene.camera;
-    let width = camera.width as usize;
-    let pixels = width * camera.height as usize;
-    let params = WalkParams {
-        max_depth,
-        rr_depth,
-        emission: LightStrategy::Mis,
-    };
-    let mut radii = vec![f32::NAN; pixels];
-    let total = radii
-        .par_chunks_mut(width)
-        .enumerate()
-        .map(|(y, row)| {
-            let mut row_counters = RayCounters::default();
-            for (x, out) in row.iter_mut().enumerate() {
-                let pixel = (y * width + x) as u64;
-                let mut rng = Rng::new(seed ^ PILOT_STREAM, 0, pixel);
-                let ray = camera.generate_ray(Vec2::new(x as f32 + 0.5, y as f32 + 0.5));
-                let mut length = None;
-                walk(
-                    scene,
-                    params,
-                    ray,
-                    &mut rng,
-                    &mut row_counters,
-                    |w, v, _| {
-                        if v.bsdf.diffuse_part().is_some() {
-                            length = Some(w.length);
-                            return Next::Stop;
-                        }
-                        v.bsdf.non_diffuse_part().map_or(Next::Stop, Next::Scatter)
-                    },
-                );
-                *out = length.map_or(f32::NAN, |l| footprint_radius(camera, l));
-            }
-            row_counters
-        })
-        .reduce(RayCounters::default, RayCounters::merge);
-    counters.rays += total.rays;
-    counters.shadow_rays += total.shadow_rays;
+    let mut radii: Vec<f32> = pilot_points(scene, seed, max_depth, rr_depth, counters)
+        .iter()
+        .map(|p| p.map_or(f32::NAN, |p| footprint_radius(&scene.camera, p.length)))
+        .collect();
     let mut found: Vec<f32> = radii
         .iter()
         .copied()

@@ -21,7 +21,9 @@ pub use camera_walk::{
     walk, walk_to_visible_point, Next, RayCounters, Vertex, VisiblePoint, Walk, WalkParams,
 };
 pub use direct::{emission_mis_weight, estimate_direct};
-pub use footprint::{footprint_radius, pilot_radii, FOOTPRINT_PIXELS, PILOT_STREAM};
+pub use footprint::{
+    footprint_radius, pilot_points, pilot_radii, PilotPoint, FOOTPRINT_PIXELS, PILOT_STREAM,
+};
 pub use memory::{
     image_bytes, MemoryEstimate, MemoryItem, MemoryPart, BYTES_PER_PHOTON, BYTES_PER_PIXEL,
     PHOTONS_PER_PATH,
@@ -274,6 +276,18 @@ impl Renderer {
             Renderer::Path(_) => None,
             Renderer::Ppm(r) => r.radius_image(),
             Renderer::Sppm(r) => Some(r.radius_image()),
+        }
+    }
+
+    /// How many photons each pixel's estimate rests on, as a grey image (photon mapping; `None`
+    /// for the path tracer or before the first iteration): for `sppm` its accumulated count N,
+    /// for `ppm` the last iteration's photons within its radius at its first diffuse visible
+    /// point ([`PpmRenderer::photon_count_image`]).
+    pub fn photon_count_image(&self, scene: &Scene) -> Option<Image> {
+        match self {
+            Renderer::Path(_) => None,
+            Renderer::Ppm(r) => r.photon_count_image(scene),
+            Renderer::Sppm(r) => Some(r.photon_count_image()),
         }
     }
 

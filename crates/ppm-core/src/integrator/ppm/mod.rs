@@ -31,7 +31,7 @@ pub use photon_pass::{
 pub use radius::RadiusSchedule;
 
 use super::camera_walk::RayCounters;
-use super::footprint::{pilot_radii, quantile};
+use super::footprint::{pilot_points, pilot_radii, quantile};
 use super::{
     image_bytes, IterationStats, MemoryEstimate, MemoryPart, PassTimes, Radius, RenderSettings,
     Snapshot, Stopwatch, BYTES_PER_PHOTON, MAX_DEPTH, PHOTONS_PER_PATH,
@@ -363,6 +363,44 @@ impl PpmRenderer {
                 }
             }
         }
+        Some(image)
+    }
+
+    /// How many photons of the last iteration lie within each pixel's gather radius at the
+    /// pixel's first diffuse visible point, as a grey image (`None` before the first
+    /// iteration): what the pixel's density estimate of that iteration rests on (its relative
+    /// noise is about one over the square root). The visible point is the pixel's pilot point
+    /// ([`pilot_points`]: the path through the pixel's centre), found by tracing once more;
+    /// pixels whose path finds no diffuse surface read 0. With `--direct sampled` the
+    /// first-bounce photons are not stored and not counted.
+    pub fn photon_count_image(&self, scene: &Scene) -> Option<Image> {
+        let scale = self.last_scale?;
+        let s = &self.settings;
+        let points = pilot_points(
+            scene,
+            s.seed,
+            s.max_depth,
+            s.rr_depth,
+            &mut RayCounters::default(),
+        );
+        let mut image = Image::new(self.film.width, self.film.height);
+        image
+            .pixels
+            .par_iter_mut()
+            .enumerate()
+            .for_each(|(local, out)| {
+                let pixel = self.bounds.full_index(local);
+                let radius = self
+                    .pixel_radii
+                    .as_ref()
+                    .map_or(scale, |p| p.initial[pixel] * scale);
+                let mut count = 0u32;
+                if let Some(point) = points[pixel] {
+                    self.grid
+                        .for_each_in_radius(point.position, radius, |_, _| count += 1);
+                }
+                *out = Vec3::splat(count as f32);
+            });
         Some(image)
     }
 

@@ -379,6 +379,18 @@ impl SppmRenderer {
         image
     }
 
+    /// Every pixel's accumulated photon count N (Hachisuka, Ogaki and Jensen 2008, sec. 4.2:
+    /// the alpha-weighted count that sets the radius), as a grey image: what the pixel's
+    /// estimate rests on (its relative noise is about one over the square root).
+    pub fn photon_count_image(&self) -> Image {
+        let (w, h) = (self.direct.width, self.direct.height);
+        let mut image = Image::new(w, h);
+        for (out, s) in image.pixels.iter_mut().zip(&self.statistics) {
+            *out = Vec3::splat(s.n as f32);
+        }
+        image
+    }
+
     /// The root mean square of the pixels' radii for the next iteration.
     pub fn rms_radius(&self) -> f32 {
         let n = self.statistics.len().max(1) as f64;
