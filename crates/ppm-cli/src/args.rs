@@ -166,7 +166,7 @@ pub struct SettingsArgs {
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..), allow_negative_numbers = true)]
     pub photons: Option<u32>,
     /// Photon mapping: initial gather radius in scene units, or `auto` (each pixel's from its
-    /// footprint: 3 pixel widths at its first diffuse visible point) [default: scene file, or
+    /// footprint: 2 pixel widths at its first diffuse visible point) [default: scene file, or
     /// auto].
     #[arg(long, value_name = "R|auto", value_parser = gather_radius, allow_negative_numbers = true)]
     pub radius: Option<Radius>,

@@ -230,8 +230,8 @@ fn pilot_radius_is_the_footprint_at_the_visible_point() {
         "{} vs {expected}",
         radii[floor_pixel]
     );
-    // Three pixel widths at distance t: 3 * 2 tan(19 deg) / 40 * t.
-    let by_hand = 3.0 * 2.0 * 19f32.to_radians().tan() / RESOLUTION as f32 * t;
+    // Two pixel widths at distance t: 2 * 2 tan(19 deg) / 40 * t.
+    let by_hand = 2.0 * 2.0 * 19f32.to_radians().tan() / RESOLUTION as f32 * t;
     assert!((expected - by_hand).abs() < 1e-5 * by_hand);
     assert!(radii.iter().all(|r| r.is_finite() && *r > 0.0));
 }

@@ -15,13 +15,13 @@ use crate::scene::Scene;
 use glam::{Vec2, Vec3};
 use rayon::prelude::*;
 
-/// Pixel widths in an auto radius. One pixel would blur nothing visible but gather few photons
-/// (variance); the radius should be a little larger than a pixel so that each gather averages
-/// more photons, while its blur (bias) stays near the pixel scale. Three is the footprint of
-/// the radius that was tuned by hand for the shipped Cornell box scenes (0.5% of the box
-/// diagonal, about 3 pixels at 512 x 512), and the radius then shrinks by Knaus and Zwicker's
-/// schedule as everywhere else.
-pub const FOOTPRINT_PIXELS: f32 = 3.0;
+/// Pixel widths in an auto radius. Much less than a pixel would gather few photons (variance);
+/// much more blurs shadows and caustics visibly (bias). Two was chosen by equal-time error
+/// against path-traced references on the shipped boxes and a large ground plane
+/// (`scripts/defaults_study.sh`, docs/performance.md): with two, `ppm` and `sppm` reached a
+/// lower error than with three and than with the boxes' hand-tuned radii. The radius then
+/// shrinks by Knaus and Zwicker's schedule (ppm) or by each pixel's photons (sppm).
+pub const FOOTPRINT_PIXELS: f32 = 2.0;
 
 /// Random streams of the pilot paths, apart from the eye and light paths'.
 pub const PILOT_STREAM: u64 = 0x7069_6c6f_745f_7221;
