@@ -43,11 +43,13 @@ fn main() {
         builds.push(start.elapsed().as_secs_f64());
         assert_eq!(g.triangle_count(), scene.geometry.triangle_count());
     }
+    let bytes = scene.geometry.memory_bytes();
+    let tris = scene.geometry.triangle_count();
     println!(
-        "triangles {} threads {threads} build_ms min {:.1} median {:.1}",
-        scene.geometry.triangle_count(),
+        "triangles {tris} threads {threads} build_ms min {:.1} median {:.1} geometry_bytes {bytes} ({:.1} B/tri)",
         min(&builds) * 1e3,
-        median(&mut builds) * 1e3
+        median(&mut builds) * 1e3,
+        bytes as f64 / tris as f64
     );
     for (name, rays, any) in [
         ("camera", &sets.camera, false),
