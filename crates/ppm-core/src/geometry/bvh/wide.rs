@@ -16,8 +16,15 @@ pub(super) struct SphereRecord {
     pub(super) id: u32,
 }
 
-/// A child reference with this bit set names a leaf (the rest is its index), else a node.
+/// A child reference with this bit set names a leaf, else a node (the rest is its index).
 pub(super) const LEAF: u32 = 1 << 31;
+
+/// With [`LEAF`]: the leaf is one triangle packet and nothing else, and the rest of the
+/// reference is the packet's index (most leaves of a triangle mesh). The traversal then
+/// reads the packet directly, without first loading a [`Leaf`] record: one dependent load
+/// less per leaf, as Embree encodes its leaves' primitives in the child reference.
+/// Without it, the rest is the index of a [`Leaf`] record.
+pub(super) const PACKET: u32 = 1 << 30;
 
 /// Children per node.
 pub(super) const WIDTH: usize = 8;
@@ -153,6 +160,13 @@ impl WideBvh {
             self.packets.push(TrianglePacket::new(&lanes[..filled]));
         }
         let first_sphere = self.spheres.len() as u32;
+        let sphere_count = prims
+            .iter()
+            .filter(|&&id| id as usize >= triangles.len())
+            .count();
+        if sphere_count == 0 && self.packets.len() as u32 == packets + 1 && packets < PACKET {
+            return LEAF | PACKET | packets;
+        }
         self.spheres.extend(
             prims
                 .iter()
