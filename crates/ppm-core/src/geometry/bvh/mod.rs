@@ -147,9 +147,9 @@ impl Geometry {
             // Leaves of up to 4 primitives (one full packet), each leaf's size chosen by obvhs's
             // SAH collapse (a subtree becomes a leaf when testing its primitives costs less than
             // traversing it, at a traversal cost of 3 primitive tests). Measured on the
-            // 995,328-triangle mesh of `benches/large_mesh.rs` against the fixed 2 of before:
-            // shadow rays ~1.6x, camera ~1.3x, incoherent ~1.1x faster, and 45% fewer nodes
-            // (docs/performance.md, 2026-12-01). PLOC, reinsertion and the collapse run on the
+            // 995,328-triangle mesh of `benches/large_mesh.rs` against the fixed 2 of before
+            // (one run each on a loaded machine): shadow rays 1.65x, camera 1.3x, incoherent
+            // 1.1x as fast, and 45% fewer nodes (docs/performance.md, 2026-12-01). PLOC, reinsertion and the collapse run on the
             // current rayon pool (obvhs's `parallel` feature).
             let params = BvhBuildParams {
                 max_prims_per_leaf: 4,
