@@ -57,3 +57,4 @@ pub fn shadow_rays(scene: &Scene, count: usize) -> Vec<Ray> {
         })
         .collect()
 }
+pub mod large_mesh;

@@ -44,12 +44,19 @@ pub struct LoadedScene {
 
 /// Loads a scene file (scene format v1) and builds the scene (BVH, lights).
 pub fn load_scene(path: &Path) -> Result<LoadedScene, LoadError> {
-    let (builder, warnings) = load_scene_builder(path)?;
+    let (builder, mut warnings) = load_scene_builder(path)?;
     let content_hash = content_hash(&builder);
     let scene = builder.build().map_err(|source| LoadError::Scene {
         path: path.to_path_buf(),
         source,
     })?;
+    let duplicates = scene.geometry.duplicate_triangles();
+    if duplicates > 0 {
+        warnings.push(format!(
+            "{}: dropped {duplicates} triangles that repeat an earlier triangle exactly (the same three vertices in the same order); they could never be hit",
+            path.display()
+        ));
+    }
     Ok(LoadedScene {
         scene,
         warnings,

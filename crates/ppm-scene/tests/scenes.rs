@@ -318,3 +318,32 @@ fn smallvcm_scene_matches_its_source() {
         assert!(s.n.z < -0.999 && s.li.min_element() > 25.0, "{s:?}");
     }
 }
+
+/// A mesh with 20,000 copies of one face (and a second, distinct face): the scene keeps two
+/// triangles, and the load warns naming the scene file and the count.
+#[test]
+fn duplicate_triangles_are_dropped_with_a_warning() {
+    let mut obj = String::from("v 0 0 -1\nv 1 0 -1\nv 0 1 -1\nv 1 1 -1\n");
+    for _ in 0..20_000 {
+        obj.push_str("f 1 2 3\n");
+    }
+    obj.push_str("f 2 4 3\n");
+    let scene = "camera: { position: [0, 0, 3], look_at: [0, 0, 0], up: [0, 1, 0], fov: 40 }\n\
+                 materials: { lamp: { type: diffuse, color: [0.5, 0.5, 0.5], emission: [1, 1, 1] } }\n\
+                 objects:\n  - { type: mesh, file: copies.obj, material: lamp }\n";
+    let dir = common::write_files(
+        "duplicate_triangles",
+        &[("copies.obj", obj.as_str()), ("scene.yml", scene)],
+    );
+    let loaded = load_scene(&dir.join("scene.yml")).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(loaded.scene.geometry.triangle_count(), 2);
+    assert_eq!(loaded.scene.geometry.duplicate_triangles(), 19_999);
+    // One emissive triangle per kept triangle: the copies do not multiply the light.
+    assert_eq!(loaded.scene.lights.len(), 2);
+    let warning = loaded
+        .warnings
+        .iter()
+        .find(|w| w.contains("dropped 19999 triangles"))
+        .unwrap_or_else(|| panic!("{:?}", loaded.warnings));
+    assert!(warning.contains("scene.yml"), "{warning}");
+}

@@ -39,4 +39,62 @@ impl TriangleMesh {
         ];
         Self::new(positions, vec![[0, 1, 2], [0, 2, 3]], material)
     }
+
+    /// A closed, bumpy sphere for benchmarks and tests of large meshes: each face of a cube
+    /// cut into `n` x `n` quads (12 n^2 triangles), its points pushed onto the sphere of
+    /// `radius` around `center` and displaced along the radius by
+    /// `amplitude * sin(f x) sin(f y) sin(f z)` of the unit direction (f = `frequency`).
+    /// Points on a cube edge are computed from the same cube coordinates by every face that
+    /// shares them, so they are bitwise equal and the mesh is watertight. Outward normals.
+    pub fn displaced_sphere(
+        center: Vec3,
+        radius: f32,
+        n: u32,
+        amplitude: f32,
+        frequency: f32,
+        material: u32,
+    ) -> Self {
+        let side = n + 1;
+        let grid = |i: u32| 2.0 * i as f32 / n as f32 - 1.0;
+        let mut positions = Vec::with_capacity(6 * (side * side) as usize);
+        let mut indices = Vec::with_capacity(12 * (n * n) as usize);
+        // (normal axis, sign): the face's cube points are `sign` on that axis.
+        for (axis, sign) in [
+            (0, 1.0),
+            (0, -1.0),
+            (1, 1.0),
+            (1, -1.0),
+            (2, 1.0),
+            (2, -1.0),
+        ] {
+            let base = positions.len() as u32;
+            for i in 0..side {
+                for j in 0..side {
+                    let mut c = [0.0f32; 3];
+                    c[axis] = sign;
+                    c[(axis + 1) % 3] = grid(i);
+                    c[(axis + 2) % 3] = grid(j);
+                    let d = Vec3::from_array(c).normalize();
+                    let bump =
+                        (frequency * d.x).sin() * (frequency * d.y).sin() * (frequency * d.z).sin();
+                    positions.push(center + d * (radius * (1.0 + amplitude * bump)));
+                }
+            }
+            let v = |i: u32, j: u32| base + i * side + j;
+            for i in 0..n {
+                for j in 0..n {
+                    // cross(e_u, e_v) points along +axis; flip the winding on the -axis face.
+                    let (a, b, c, d) = (v(i, j), v(i + 1, j), v(i + 1, j + 1), v(i, j + 1));
+                    if sign > 0.0 {
+                        indices.push([a, b, c]);
+                        indices.push([a, c, d]);
+                    } else {
+                        indices.push([a, c, b]);
+                        indices.push([a, d, c]);
+                    }
+                }
+            }
+        }
+        Self::new(positions, indices, material)
+    }
 }

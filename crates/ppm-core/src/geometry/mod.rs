@@ -1,7 +1,8 @@
 //! Rays, hits and the scene's geometry: triangle meshes and analytic spheres under one BVH.
 //!
 //! Primitive ids are global: triangles first, in the order their meshes were added (each mesh's
-//! triangles in index order, degenerate ones skipped), then spheres in the order they were added.
+//! triangles in index order, degenerate ones and exact duplicates of an earlier triangle
+//! skipped), then spheres in the order they were added.
 
 mod bvh;
 mod mesh;

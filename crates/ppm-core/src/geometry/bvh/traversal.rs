@@ -1,7 +1,7 @@
 //! Traversal of the 8-wide BVH: the robust slab test of a node's eight boxes at once, and a
 //! stack walk nearest child first, for closest-hit and any-hit queries.
 
-use super::wide::{sphere_record, Leaf, Node, SphereRecord, LEAF, WIDTH};
+use super::wide::{sphere_record, Leaf, Node, SphereRecord, LEAF, PACKET, WIDTH};
 use super::Geometry;
 use crate::geometry::sphere::intersect_sphere;
 use crate::geometry::triangle::{gamma, ShearedRay};
@@ -127,14 +127,14 @@ impl Geometry {
             uv: Vec2::ZERO,
             found: false,
         };
-        self.traverse(&tr, ray.t_max, |leaf, t_max| {
-            for packet in self.leaf_packets(leaf) {
+        self.traverse(&tr, ray.t_max, |packets, spheres, t_max| {
+            for packet in packets {
                 let bound = best.t * WIDEN;
                 packet.intersect(&tr.shear, &tr.packet, bound, |lane, t, b1, b2| {
                     best.offer(t, packet.id[lane], Vec2::new(b1, b2));
                 });
             }
-            for s in self.leaf_spheres(leaf) {
+            for s in spheres {
                 if let Some(t) = tr.sphere(s, best.t) {
                     best.offer(t, s.id, Vec2::ZERO);
                 }
@@ -150,9 +150,9 @@ impl Geometry {
     pub fn occluded(&self, ray: &Ray) -> bool {
         let tr = TraversalRay::new(ray);
         let bound = ray.t_max * WIDEN;
-        self.traverse(&tr, ray.t_max, |leaf, _| {
+        self.traverse(&tr, ray.t_max, |packets, spheres, _| {
             let mut blocked = false;
-            for packet in self.leaf_packets(leaf) {
+            for packet in packets {
                 packet.intersect(&tr.shear, &tr.packet, bound, |_, t, _, _| {
                     blocked |= t < ray.t_max;
                 });
@@ -160,7 +160,7 @@ impl Geometry {
                     return true;
                 }
             }
-            self.leaf_spheres(leaf)
+            spheres
                 .iter()
                 .any(|s| tr.sphere(s, ray.t_max).is_some_and(|t| t < ray.t_max))
         })
@@ -178,14 +178,14 @@ impl Geometry {
         &self.sphere_records[leaf.spheres.0 as usize..leaf.spheres.1 as usize]
     }
 
-    /// Stack traversal, nearest child first. `leaf(leaf, t_max)` tests the primitives of a
-    /// leaf, may shrink `t_max`, and returns true to stop; so does `traverse`.
+    /// Stack traversal, nearest child first. `leaf(packets, spheres, t_max)` tests the
+    /// primitives of a leaf, may shrink `t_max`, and returns true to stop; so does `traverse`.
     #[inline(always)]
     fn traverse(
         &self,
         tr: &TraversalRay,
         t_max: f32,
-        mut leaf: impl FnMut(&Leaf, &mut f32) -> bool,
+        mut leaf: impl FnMut(&[TrianglePacket], &[SphereRecord], &mut f32) -> bool,
     ) -> bool {
         if self.nodes.is_empty() {
             return false;
@@ -209,14 +209,21 @@ impl Geometry {
         tr: &TraversalRay,
         mut t_max: f32,
         stack: &mut [(u32, f32)],
-        leaf: &mut impl FnMut(&Leaf, &mut f32) -> bool,
+        leaf: &mut impl FnMut(&[TrianglePacket], &[SphereRecord], &mut f32) -> bool,
     ) -> bool {
         // Entries are (child reference, entry distance), the nearest on top.
         let mut sp = 0;
         let mut current = 0u32;
         loop {
             if current & LEAF != 0 {
-                if leaf(&self.leaves[(current & !LEAF) as usize], &mut t_max) {
+                let (packets, spheres) = if current & PACKET != 0 {
+                    let i = (current & !(LEAF | PACKET)) as usize;
+                    (std::slice::from_ref(&self.packets[i]), &[][..])
+                } else {
+                    let record = &self.leaves[(current & !LEAF) as usize];
+                    (self.leaf_packets(record), self.leaf_spheres(record))
+                };
+                if leaf(packets, spheres, &mut t_max) {
                     return true;
                 }
             } else {

@@ -1,0 +1,117 @@
+//! Builds the large-mesh scene (`ppm_benches::large_mesh`), writes its triangles and ray sets to
+//! a file for an outside ray tracer, and times ppm on the very same rays.
+//!
+//! `cargo run --release -p ppm-benches --example large_mesh -- [--write FILE] [--threads N]
+//! [--n SUBDIVISIONS] [--reps R] [--scene NAME]` prints the BVH build time, the geometry's
+//! bytes per triangle and, per ray set, the hits and the rays per second (best and median of
+//! R repetitions) on a pool of N threads. `--scene cornell_box_water.yml` uses a shipped scene
+//! (without its spheres, which another ray tracer would not share) instead of the large mesh.
+
+use ppm_benches::large_mesh::{large_scene, ray_sets, write_ray_file, LARGE_N};
+use ppm_core::geometry::Geometry;
+use ppm_core::geometry::Ray;
+use rayon::prelude::*;
+use std::time::Instant;
+
+fn main() {
+    let mut args = std::env::args().skip(1);
+    let (mut write, mut threads, mut n, mut reps, mut scene_name) = (None, 1, LARGE_N, 5, None);
+    while let Some(a) = args.next() {
+        let mut value = || args.next().expect("a value after the flag");
+        match a.as_str() {
+            "--write" => write = Some(value()),
+            "--threads" => threads = value().parse().expect("--threads N"),
+            "--n" => n = value().parse().expect("--n SUBDIVISIONS"),
+            "--reps" => reps = value().parse().expect("--reps R"),
+            "--scene" => scene_name = Some(value()),
+            other => panic!("unknown argument {other}"),
+        }
+    }
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .unwrap();
+    let scene = match scene_name {
+        Some(name) => {
+            let mut builder = ppm_tests::load_small(&name, 1024, 1024);
+            builder.spheres.clear();
+            builder.build().expect("the scene builds")
+        }
+        None => large_scene(n, 1024, 1024),
+    };
+    let sets = ray_sets(&scene);
+    if let Some(path) = write {
+        write_ray_file(std::path::Path::new(&path), &scene, &sets).unwrap();
+        println!("wrote {path}");
+    }
+    // Rebuild the BVH alone over the scene's triangles, as the scene build did.
+    let meshes = [triangles_as_mesh(&scene.geometry)];
+    let mut builds = Vec::new();
+    for _ in 0..reps {
+        let start = Instant::now();
+        let g = pool.install(|| Geometry::new(&meshes, &[]));
+        builds.push(start.elapsed().as_secs_f64());
+        assert_eq!(g.triangle_count(), scene.geometry.triangle_count());
+    }
+    let bytes = scene.geometry.memory_bytes();
+    let tris = scene.geometry.triangle_count();
+    println!(
+        "triangles {tris} threads {threads} build_ms min {:.1} median {:.1} geometry_bytes {bytes} ({:.1} B/tri)",
+        min(&builds) * 1e3,
+        median(&mut builds) * 1e3,
+        bytes as f64 / tris as f64
+    );
+    for (name, rays, any) in [
+        ("camera", &sets.camera, false),
+        ("incoherent", &sets.incoherent, false),
+        ("shadow", &sets.shadow, true),
+    ] {
+        let mut times = Vec::new();
+        let mut hits = 0;
+        for _ in 0..reps {
+            let start = Instant::now();
+            hits = pool.install(|| trace(&scene.geometry, rays, any));
+            times.push(start.elapsed().as_secs_f64());
+        }
+        println!(
+            "{name:<10} rays {} hits {hits} Mrays/s best {:.2} median {:.2}",
+            rays.len(),
+            rays.len() as f64 / min(&times) / 1e6,
+            rays.len() as f64 / median(&mut times) / 1e6
+        );
+    }
+}
+
+/// Hits (closest-hit) or blocked rays (any-hit), over the pool in chunks of 4096 rays.
+fn trace(geometry: &Geometry, rays: &[Ray], any: bool) -> usize {
+    rays.par_chunks(4096)
+        .map(|chunk| {
+            chunk
+                .iter()
+                .filter(|r| {
+                    if any {
+                        geometry.occluded(r)
+                    } else {
+                        geometry.intersect(r).is_some()
+                    }
+                })
+                .count()
+        })
+        .sum()
+}
+
+fn triangles_as_mesh(geometry: &Geometry) -> ppm_core::geometry::TriangleMesh {
+    let count = geometry.triangle_count() as u32;
+    let positions = (0..count).flat_map(|p| geometry.triangle(p).0.v).collect();
+    let indices = (0..count).map(|i| [3 * i, 3 * i + 1, 3 * i + 2]).collect();
+    ppm_core::geometry::TriangleMesh::new(positions, indices, 0)
+}
+
+fn min(v: &[f64]) -> f64 {
+    v.iter().copied().fold(f64::INFINITY, f64::min)
+}
+
+fn median(v: &mut [f64]) -> f64 {
+    v.sort_by(f64::total_cmp);
+    v[v.len() / 2]
+}
