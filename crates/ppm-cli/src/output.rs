@@ -283,11 +283,12 @@ fn pending_exr(path: &Path, image: &Image) -> Result<PendingFile> {
 /// Commits a PNG and an EXR written in full to temporary files ([`PendingFile`]) as a pair:
 /// both were written before either is renamed over its target, so a full disk or any other
 /// write error leaves the previous PNG and EXR both as they were (never a new PNG beside an
-/// old EXR). The error says which files were replaced.
+/// old EXR). The error says which files were replaced. The two files are encoded and written
+/// at the same time, on two threads (the EXR's render state makes it the longer of the two).
 pub fn commit_pair(
     paths: &OutputPaths,
-    png: impl FnOnce() -> Result<PendingFile>,
-    exr: impl FnOnce() -> Result<PendingFile>,
+    png: impl FnOnce() -> Result<PendingFile> + Send,
+    exr: impl FnOnce() -> Result<PendingFile> + Send,
 ) -> Result<()> {
     let kept = || {
         format!(
@@ -296,8 +297,16 @@ pub fn commit_pair(
             paths.exr.display()
         )
     };
-    let png = png().with_context(kept)?;
-    let exr = exr().with_context(kept)?;
+    let (png, exr) = std::thread::scope(|scope| {
+        let exr = scope.spawn(exr);
+        let png = png();
+        let exr = exr
+            .join()
+            .unwrap_or_else(|panic| std::panic::resume_unwind(panic));
+        (png, exr)
+    });
+    let png = png.with_context(kept)?;
+    let exr = exr.with_context(kept)?;
     png.commit().with_context(kept)?;
     exr.commit().with_context(|| {
         format!(

@@ -8,8 +8,12 @@ use std::collections::BTreeMap;
 use std::fmt;
 
 /// The version of the saved render state (attributes and channels): bumped when their meaning
-/// changes, so that an old file is refused rather than misread.
-pub const STATE_FORMAT: &str = "1";
+/// changes, so that a file is refused rather than misread by a ppm that does not know it.
+/// Format 2 writes only the words of the film's sums that are not zero everywhere
+/// (`ppm.sumWords`, see `state_file`); format 1 always wrote all four.
+pub const STATE_FORMAT: &str = "2";
+/// The state formats this ppm reads: its own and every earlier one.
+pub const READABLE_STATE_FORMATS: [&str; 2] = ["1", "2"];
 
 /// Which slice of a render a shard is: `--shard index/count` of `-n total` iterations.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -206,8 +210,11 @@ impl Provenance {
             })
         };
         let state = text("ppm.state")?;
-        if state != STATE_FORMAT {
-            bail!("saved state format {state} is not the supported format {STATE_FORMAT}");
+        if !READABLE_STATE_FORMATS.contains(&state.as_str()) {
+            bail!(
+                "saved state format {state} is not a supported format ({})",
+                READABLE_STATE_FORMATS.join(", ")
+            );
         }
         fn parse<T: std::str::FromStr>(name: &str, v: String) -> Result<T> {
             v.trim()

@@ -3,10 +3,21 @@
 //! the provenance attributes. `--resume`, `--shard` and `ppm merge` read it back.
 //!
 //! Channels: `R`, `G`, `B` (the image, linear f32, what every viewer shows);
-//! `ppm.sum.R.0` .. `ppm.sum.B.3`: each channel's fixed-point sum (u128, 48 fractional bits,
-//! see `ppm_core::film`) as four u32 words, `.0` the least significant; `ppm.pixel.<name>`:
+//! `ppm.sum.R.0` .. `ppm.sum.B.<k-1>`: each channel's fixed-point sum (u128, 48 fractional
+//! bits, see `ppm_core::film`) as u32 words, `.0` the least significant; `ppm.pixel.<name>`:
 //! an integrator's per-pixel state ([`ppm_core::integrator::PixelChannel`]). The iteration
 //! range and counts are the `ppm.*` attributes ([`Provenance`]).
+//!
+//! k, the attribute `ppm.sumWords`, is the number of words the largest sum needs (1 to 4):
+//! the higher words are zero in every pixel and are not written (state format 2). A sum
+//! reaches its third word only past 2^16 (radiance times iterations), so a render of this
+//! renderer's scenes usually writes two. Format 1 files (before `ppm.sumWords`) hold all four
+//! words, and are read as they are.
+//!
+//! The file is written uncompressed: the low words of the sums and the f32 image are noise
+//! in their low bits, which RLE (the image's compression before the state) does not shrink
+//! (at 512x512 it saved 1.4% of the bytes and took 3.5 times as long as no compression; ZIP
+//! saved 18% and took 15 times as long; docs/performance.md).
 
 use crate::output::{self, PendingFile};
 use crate::provenance::Provenance;
@@ -22,6 +33,8 @@ use std::path::Path;
 
 const RGB: [&str; 3] = ["R", "G", "B"];
 const SUM_PREFIX: &str = "ppm.sum.";
+/// The attribute giving how many u32 words of each sum are written (state format 2).
+const SUM_WORDS: &str = "ppm.sumWords";
 const PIXEL_PREFIX: &str = "ppm.pixel.";
 
 /// A render's saved state, as read back.
@@ -47,17 +60,14 @@ pub fn pending(
     provenance.rejected = film.rejected();
     provenance.first_rejected = film.first_rejected();
 
-    let parts = film.to_parts();
-    let mut channels = Vec::with_capacity(3 + 12 + snapshot.pixels.len());
+    let sums = film.sums();
+    let words = sum_words(sums);
+    let mut channels = Vec::with_capacity(3 + 3 * words + snapshot.pixels.len());
     for (c, name) in RGB.iter().enumerate() {
         let values = image.pixels.iter().map(|p| p[c]).collect();
         channels.push(AnyChannel::new(*name, FlatSamples::F32(values)));
-        for word in 0..4 {
-            let values = parts
-                .sum
-                .iter()
-                .map(|s| (s[c] >> (32 * word)) as u32)
-                .collect();
+        for word in 0..words {
+            let values = sums.iter().map(|s| (s[c] >> (32 * word)) as u32).collect();
             channels.push(AnyChannel::new(
                 format!("{SUM_PREFIX}{name}.{word}").as_str(),
                 FlatSamples::U32(values),
@@ -76,7 +86,9 @@ pub fn pending(
         )),
         ..LayerAttributes::default()
     };
-    for (name, value) in provenance.to_attributes() {
+    let mut text = provenance.to_attributes();
+    text.insert(SUM_WORDS, words.to_string());
+    for (name, value) in text {
         attributes.other.insert(
             Text::from(name),
             AttributeValue::Text(Text::from(value.as_str())),
@@ -85,7 +97,7 @@ pub fn pending(
     let layer = Layer::new(
         (image.width as usize, image.height as usize),
         attributes,
-        Encoding::FAST_LOSSLESS,
+        Encoding::UNCOMPRESSED,
         AnyChannels::sort(channels.into()),
     );
     let exr_image = ExrImage::from_layer(layer);
@@ -95,6 +107,14 @@ pub fn pending(
             .to_buffered(w)
             .map_err(|e| anyhow::anyhow!("{e}"))
     })
+}
+
+/// How many u32 words (1 to 4) hold every sum of `sums`: the words above are zero in every
+/// pixel and channel.
+fn sum_words(sums: &[[u128; 3]]) -> usize {
+    let all = sums.iter().flatten().fold(0u128, |a, s| a | s);
+    let bits = (u128::BITS - all.leading_zeros()) as usize;
+    bits.div_ceil(32).max(1)
 }
 
 /// Writes the PNG and the EXR (with state) of a render as a pair: neither replaces its
@@ -151,9 +171,18 @@ fn read_inner(path: &Path) -> Result<SavedRender> {
             channels.insert(channel.name.to_string(), values.as_slice());
         }
     }
+    // Format 1 wrote all four words; format 2 says how many it wrote (the rest are zero).
+    let words = match attributes.get(SUM_WORDS) {
+        None if attributes.get("ppm.state").map(String::as_str) == Some("1") => 4,
+        None => bail!("attribute {SUM_WORDS} is missing"),
+        Some(w) => match w.parse::<usize>() {
+            Ok(w @ 1..=4) => w,
+            _ => bail!("attribute {SUM_WORDS} is {w:?}, not a number of words from 1 to 4"),
+        },
+    };
     let mut sum = vec![[0u128; 3]; pixel_count];
     for (c, name) in RGB.iter().enumerate() {
-        for word in 0..4 {
+        for word in 0..words {
             let channel = format!("{SUM_PREFIX}{name}.{word}");
             let values = channels
                 .get(&channel)

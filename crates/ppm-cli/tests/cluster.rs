@@ -389,3 +389,60 @@ fn resume_refuses_another_scene_or_settings_and_shard_needs_iterations() {
     let err = refused(d, &["tiny.yml", "-n", "2", "--shard", "0/3"]);
     assert!(err.contains("empty"), "{err}");
 }
+
+/// A state file of format 1 (before the sums were cut to the words they need: all four words,
+/// RLE), written by the build of commit 69e6fb8 from `tests/data/state_format1.yml` with
+/// `-a ppm --seed 5 -n 2 --threads 1`, still resumes and merges exactly. That scene's light
+/// (emission 2e6), seen by the camera, is bright enough that the sums reach their third word,
+/// so reading fewer words of the old file, or refusing its format, fails the test.
+#[test]
+fn a_state_file_of_format_1_still_resumes_and_merges_exactly() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data");
+    std::fs::copy(data.join("state_format1.yml"), d.join("bright.yml")).unwrap();
+    std::fs::copy(data.join("state_format1.exr"), d.join("old.exr")).unwrap();
+    let old = attributes(&d.join("old.exr"));
+    assert_eq!(old["ppm.state"], "1");
+    assert!(!old.contains_key("ppm.sumWords"));
+    // The premise: the old file's third words are not all zero.
+    let image = exr::prelude::read_all_flat_layers_from_file(d.join("old.exr")).unwrap();
+    let third_word = image.layer_data[0]
+        .channel_data
+        .list
+        .iter()
+        .find(|c| c.name.to_string() == "ppm.sum.R.2")
+        .map(|c| match &c.sample_data {
+            exr::prelude::FlatSamples::U32(v) => v.iter().any(|&w| w != 0),
+            _ => false,
+        });
+    assert_eq!(
+        third_word,
+        Some(true),
+        "a pixel's sum reaches its third word"
+    );
+    let base = ["bright.yml", "-a", "ppm", "--seed", "5", "--threads", "1"];
+    ok(d, &[&base[..], &["-n", "3", "-o", "whole"]].concat());
+    let whole = attributes(&d.join("whole.exr"));
+    assert_eq!(
+        (whole["ppm.state"].as_str(), whole["ppm.sumWords"].as_str()),
+        ("2", "3"),
+        "the premise: this scene's sums need a third word"
+    );
+    ok(
+        d,
+        &[
+            &base[..],
+            &["-n", "1", "--resume", "old.exr", "-o", "resumed"],
+        ]
+        .concat(),
+    );
+    assert_same_image(d, "resumed", "whole", "resumed from a format 1 file");
+    ok(
+        d,
+        &[&base[..], &["-n", "3", "--shard", "2/3", "-o", "last"]].concat(),
+    );
+    ok(d, &["merge", "old.exr", "last.exr", "-o", "merged"]);
+    assert_same_image(d, "merged", "whole", "a format 1 file merged");
+    ok(d, &["info", "old.exr"]);
+}

@@ -55,22 +55,51 @@ pub const MAX_ESTIMATE: f64 = (1u64 << 56) as f64;
 /// An estimate as a whole number of 2^-48 units (`e` finite and >= 0), clamped at
 /// [`MAX_ESTIMATE`]: e * 2^48 is exact in f64 (24 significant bits shifted), so only the
 /// rounding of values below 2^-25 loses anything.
-/// Values below 2^64 units (estimates below 2^16) take the hardware f64-to-u64 conversion;
-/// only larger ones the slower software conversion to u128 (the same value either way).
+/// Values below 2^63 units (estimates below 2^15) take the one-instruction f64-to-i64
+/// conversion; only larger ones the longer conversions to u64 or u128 (the same value
+/// whichever converts it).
 #[inline]
 fn to_fixed(e: f32) -> u128 {
+    const I64_RANGE: f64 = 9_223_372_036_854_775_808.0; // 2^63
     const U64_RANGE: f64 = 18_446_744_073_709_551_616.0; // 2^64
     let units = ((e as f64).min(MAX_ESTIMATE) * FIXED_POINT_SCALE).round();
-    if units < U64_RANGE {
+    if units < I64_RANGE {
+        units as i64 as u64 as u128
+    } else if units < U64_RANGE {
         units as u64 as u128
     } else {
         units as u128
     }
 }
 
-/// A fixed-point sum as a value.
+/// Estimates below 2^15 are below 2^63 units: [`to_fixed_small`] converts them.
+const SMALL_ESTIMATE: f32 = 32768.0;
+
+/// [`to_fixed`] of an estimate in [0, [`SMALL_ESTIMATE`]) (or -0): no clamp, and the f64
+/// to i64 conversion alone (the same value).
+#[inline]
+fn to_fixed_small(e: f32) -> u128 {
+    ((e as f64) * FIXED_POINT_SCALE).round() as i64 as u64 as u128
+}
+
+/// A fixed-point sum as a value: the sum correctly rounded to f64 (the value of `sum as
+/// f64`), then scaled by a power of two (exact), without the software u128 conversion.
+/// Sums below 2^64 convert as u64. A larger one keeps its top 64 bits, the lowest of them
+/// ORed with every bit shifted out (a sticky bit: f64 keeps 53 of the 64, so it decides
+/// only whether the part rounded off is above, at or below half), converts those and scales
+/// by 2^shift.
+#[inline]
 fn from_fixed(sum: u128) -> f64 {
-    sum as f64 / FIXED_POINT_SCALE
+    let value = match u64::try_from(sum) {
+        Ok(small) => small as f64,
+        Err(_) => {
+            let shift = 64 - sum.leading_zeros();
+            let dropped = sum & ((1u128 << shift) - 1);
+            let top = (sum >> shift) as u64 | (dropped != 0) as u64;
+            top as f64 * f64::from_bits(((1023 + shift) as u64) << 52)
+        }
+    };
+    value / FIXED_POINT_SCALE
 }
 
 /// The running average of one estimate per pixel per iteration, over a contiguous slice of
@@ -163,6 +192,12 @@ impl Film {
         }
     }
 
+    /// The fixed-point sums ([`FIXED_POINT_BITS`] fractional bits), row-major, R, G, B: what
+    /// [`Film::to_parts`] copies, borrowed (for writing them out).
+    pub fn sums(&self) -> &[[u128; 3]] {
+        &self.sum
+    }
+
     /// Adds one iteration: one estimate per pixel, row-major. Non-finite or negative estimates
     /// are dropped (counted in [`Film::rejected`]) and count as zero.
     pub fn add_iteration(&mut self, estimates: &[Vec3]) {
@@ -181,7 +216,13 @@ impl Film {
                 let mut rejected = 0u64;
                 let mut first = None;
                 for (i, (s, e)) in sums.iter_mut().zip(estimates).enumerate() {
-                    if e.is_finite() && e.min_element() >= 0.0 {
+                    // Most estimates are in [0, 2^15) in every channel (NaN fails both
+                    // comparisons): one test for the pixel, then no branch per channel.
+                    if e.cmpge(Vec3::ZERO).all() && e.cmplt(Vec3::splat(SMALL_ESTIMATE)).all() {
+                        for (c, v) in s.iter_mut().zip(e.to_array()) {
+                            *c = c.saturating_add(to_fixed_small(v));
+                        }
+                    } else if e.is_finite() && e.min_element() >= 0.0 {
                         for (c, v) in s.iter_mut().zip(e.to_array()) {
                             *c = c.saturating_add(to_fixed(v));
                         }
@@ -342,6 +383,59 @@ mod tests {
             }
         }
         assert_eq!(to_fixed(f32::MAX), to_fixed(MAX_ESTIMATE as f32));
+    }
+
+    /// The conversions' short cuts (i64 and u64 below 2^63 and 2^64 units, u64 below 2^64
+    /// for sums) give the value of the plain u128 conversion, on both sides of each boundary.
+    #[test]
+    fn fast_conversions_equal_the_u128_conversion() {
+        let reference_to =
+            |e: f32| ((e as f64).min(MAX_ESTIMATE) * FIXED_POINT_SCALE).round() as u128;
+        let mut estimates: Vec<f32> = values(7, 3000).iter().flat_map(|v| v.to_array()).collect();
+        for boundary in [2f32.powi(15), 2f32.powi(16), MAX_ESTIMATE as f32] {
+            let mut below = boundary;
+            let mut above = boundary;
+            for _ in 0..4 {
+                estimates.extend([below, above, below * 0.75, above * 1.5]);
+                below = f32::from_bits(below.to_bits() - 1);
+                above = f32::from_bits(above.to_bits() + 1);
+            }
+        }
+        estimates.extend([0.0, -0.0, f32::MIN_POSITIVE, 1e-45, f32::MAX]);
+        for &e in &estimates {
+            assert_eq!(to_fixed(e), reference_to(e), "{e:e}");
+            if e < SMALL_ESTIMATE {
+                assert_eq!(to_fixed_small(e), reference_to(e), "{e:e}");
+            }
+        }
+        // The film's two paths (every channel small, or not) add what the reference converts.
+        let pixels: Vec<Vec3> = estimates
+            .chunks_exact(3)
+            .map(|c| Vec3::new(c[0], c[1], c[2]))
+            .collect();
+        let mut film = Film::new(pixels.len() as u32, 1);
+        film.add_iteration(&pixels);
+        film.add_iteration(&pixels);
+        for (sum, e) in film.sums().iter().zip(&pixels) {
+            let expected = e.to_array().map(|v| reference_to(v) * 2);
+            assert_eq!(*sum, expected, "{e}");
+        }
+        let reference_from = |sum: u128| sum as f64 / FIXED_POINT_SCALE;
+        for base in [1u128 << 53, 1u128 << 63, 1u128 << 64, 1u128 << 100] {
+            for delta in [0u128, 1, 2, 3, 1023, 1024, 1025, 2047, 2048, 2049] {
+                for sum in [base + delta, base - delta.min(base), base * 3 + delta] {
+                    assert_eq!(
+                        from_fixed(sum).to_bits(),
+                        reference_from(sum).to_bits(),
+                        "{sum}"
+                    );
+                }
+            }
+        }
+        assert_eq!(
+            from_fixed(u64::MAX as u128),
+            reference_from(u64::MAX as u128)
+        );
     }
 
     /// The point of fixed-point sums: slices of iterations accumulated separately and joined

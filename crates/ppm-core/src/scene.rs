@@ -255,7 +255,9 @@ impl Scene {
 
     /// Samples the start of a light path: a light in proportion to its power, then a point and
     /// a direction on it. The flux is Le cos / (p_light p_area p_dir).
-    #[inline]
+    /// Always inlined into the light-path tracer (once per path; a call there since the
+    /// lights were split one file per model).
+    #[inline(always)]
     pub fn sample_emission(
         &self,
         u_light: f32,

@@ -38,7 +38,9 @@ impl CameraPath {
     /// camera and after a delta bounce; after a non-specular bounce it is weighted against
     /// light sampling by `strategy` (the power heuristic for MIS, 0 when only light sampling
     /// finds emitters, 1 when only BSDF sampling does).
-    #[inline]
+    /// Always inlined into the walk, as `scatter`: left to LLVM, both became calls once the
+    /// walk was shared by three integrators (see `Bsdf::sample`).
+    #[inline(always)]
     pub fn emission(&self, scene: &Scene, hit: &Hit, wo: Vec3, strategy: LightStrategy) -> Vec3 {
         let material = scene.material(hit);
         if !material.is_emissive() || wo.dot(hit.ng) <= 0.0 {
@@ -61,7 +63,7 @@ impl CameraPath {
     /// geometric side contradicts its lobe (it would leak through the surface), or Russian
     /// roulette after `rr_depth` bounces, which survives with probability min(1, max channel
     /// of the throughput) and divides the survivors by it.
-    #[inline]
+    #[inline(always)]
     #[allow(clippy::too_many_arguments)]
     pub fn scatter(
         &mut self,
