@@ -391,8 +391,9 @@ fn resume_refuses_another_scene_or_settings_and_shard_needs_iterations() {
 }
 
 /// A state file of format 1 (before the sums were cut to the words they need: all four words,
-/// RLE), written by the build of commit 69e6fb8 from `tests/data/state_format1.yml` with
-/// `-a ppm --seed 5 -n 2 --threads 1`, still resumes and merges exactly. That scene's light
+/// RLE), written by a format-1 build (main at aa796d8, whose state code is 69e6fb8's) from
+/// `tests/data/state_format1.yml` with `-a ppm --seed 5 -n 2 --threads 1`, still resumes and
+/// merges exactly. That scene's light
 /// (emission 2e6), seen by the camera, is bright enough that the sums reach their third word,
 /// so reading fewer words of the old file, or refusing its format, fails the test.
 #[test]
