@@ -3,7 +3,7 @@
 
 mod test_scenes;
 
-use ppm_core::integrator::{LightStrategy, PpmRenderer};
+use ppm_core::integrator::LightStrategy;
 use ppm_core::prelude::*;
 use test_scenes::{
     assert_uniform_image, cornell, cornell_builder, furnace, render_on_threads, render_stats,
@@ -159,8 +159,11 @@ fn first_hit_photons_carry_the_lights_power() {
         direct: DirectMode::Photons, // first-hit photons are stored
         ..RenderSettings::new(&scene)
     };
-    let mut r = PpmRenderer::new(&scene, settings.clone());
-    r.iterate(&scene);
+    let mut renderer = Renderer::new(&scene, &settings);
+    renderer.iterate(&scene);
+    let Renderer::Ppm(r) = &renderer else {
+        unreachable!("-a ppm renders with PpmRenderer")
+    };
     let photons = r.photon_map().photons();
     assert_eq!(photons.len(), settings.photons as usize);
     let n = settings.photons as f64;

@@ -4,7 +4,6 @@
 
 mod test_scenes;
 
-use ppm_core::integrator::SppmRenderer;
 use ppm_core::prelude::*;
 use test_scenes::{
     assert_uniform_image, cornell, furnace, render_on_threads, sppm_stats, BoxContents,
@@ -58,10 +57,13 @@ fn radii_shrink_only_where_photons_arrive() {
         radius: ppm_core::integrator::Radius::World(0.05),
         ..RenderSettings::for_algorithm(&scene, Algorithm::Sppm)
     };
-    let mut r = SppmRenderer::new(&scene, settings);
+    let mut renderer = Renderer::new(&scene, &settings);
     for _ in 0..4 {
-        r.iterate(&scene);
+        renderer.iterate(&scene);
     }
+    let Renderer::Sppm(r) = &renderer else {
+        unreachable!("-a sppm renders with SppmRenderer")
+    };
     let r0 = 0.05f64 * 0.05;
     let shrunk = r.statistics().iter().filter(|s| s.r2 < r0 * 0.999).count();
     assert_eq!(

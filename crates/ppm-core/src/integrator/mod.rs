@@ -189,10 +189,9 @@ impl Renderer {
 
     /// Renders one more iteration.
     pub fn iterate(&mut self, scene: &Scene) -> IterationStats {
-        match self {
-            Renderer::Path(r) => r.iterate(scene),
-            Renderer::Ppm(r) => r.iterate(scene),
-            Renderer::Sppm(r) => r.iterate(scene),
+        match self.iterate_until(scene, &|| false) {
+            Some(stats) => stats,
+            None => unreachable!("an iteration that is never asked to stop completes"),
         }
     }
 

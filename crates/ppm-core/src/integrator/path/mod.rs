@@ -92,14 +92,8 @@ impl PathTracer {
     /// The pixel estimate is a box-filtered one: a uniformly jittered position in the pixel.
     /// Random streams are keyed by (seed, iteration, pixel), so the image does not depend on
     /// the number of threads.
-    pub fn iterate(&mut self, scene: &Scene) -> IterationStats {
-        match self.iterate_until(scene, &|| false) {
-            Some(stats) => stats,
-            None => unreachable!("an iteration that is never asked to stop completes"),
-        }
-    }
-
-    /// [`PathTracer::iterate`], abandoned (film untouched, `None`) if `stop` says yes before
+    ///
+    /// Abandoned (film untouched, `None`) if `stop` says yes before
     /// one of the iteration's tiles starts.
     pub fn iterate_until<F: Fn() -> bool + Sync>(
         &mut self,

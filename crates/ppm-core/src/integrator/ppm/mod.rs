@@ -226,14 +226,8 @@ impl PpmRenderer {
 
     /// Renders one iteration. With `Radius::Auto` the first one starts with the pilot pass
     /// (its rays count as eye rays, its time as the eye pass's).
-    pub fn iterate(&mut self, scene: &Scene) -> IterationStats {
-        match self.iterate_until(scene, &|| false) {
-            Some(stats) => stats,
-            None => unreachable!("an iteration that is never asked to stop completes"),
-        }
-    }
-
-    /// [`PpmRenderer::iterate`], abandoned (film and radius untouched, `None`) if `stop` says
+    ///
+    /// Abandoned (film and radius untouched, `None`) if `stop` says
     /// yes before one of the photon or eye pass's work items starts.
     pub fn iterate_until<F: Fn() -> bool + Sync>(
         &mut self,

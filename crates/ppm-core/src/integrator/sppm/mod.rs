@@ -196,14 +196,8 @@ impl SppmRenderer {
     }
 
     /// Renders one iteration.
-    pub fn iterate(&mut self, scene: &Scene) -> IterationStats {
-        match self.iterate_until(scene, &|| false) {
-            Some(stats) => stats,
-            None => unreachable!("an iteration that is never asked to stop completes"),
-        }
-    }
-
-    /// [`SppmRenderer::iterate`], abandoned (`None`) if `stop` says yes before one of the
+    ///
+    /// Abandoned (`None`) if `stop` says yes before one of the
     /// camera or photon pass's work items starts. The pixel statistics, the direct-light film
     /// and the photon count change only after both passes, so an abandoned iteration leaves
     /// the render as it was (the visible points and the grid are rebuilt by every iteration).
