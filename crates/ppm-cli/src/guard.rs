@@ -50,7 +50,7 @@ fn same_file(a: &Path, b: &Path) -> bool {
 }
 
 /// Removes the stale temporary files of `paths` left by a killed run (`kill -9`, a power
-/// cut): only names of the exact pattern `output::temp_sibling` gives these two files,
+/// cut): only names of the exact pattern `output::durable::temp_sibling` gives these two files,
 /// `.<name>.tmp-<pid>-<n>` or `.<name>.write-test-<pid>-<n>`, and only stale ones (see
 /// [`STALE_AGE`]). Returns the files removed; a file that cannot be removed is left alone.
 pub fn clean_stale_temporaries(paths: &OutputPaths) -> Vec<std::path::PathBuf> {

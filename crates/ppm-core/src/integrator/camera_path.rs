@@ -1,4 +1,5 @@
-//! What a camera path carries from vertex to vertex, and its BSDF-sampled continuation.
+//! Where a camera path starts, what it carries from vertex to vertex, and its BSDF-sampled
+//! continuation.
 
 use super::direct::emission_mis_weight;
 use super::shading::ShadingFrame;
@@ -7,7 +8,29 @@ use crate::bsdf::{Bsdf, Lobe, TransportMode};
 use crate::geometry::{Hit, Ray};
 use crate::sampling::Rng;
 use crate::scene::Scene;
-use glam::Vec3;
+use glam::{Vec2, Vec3};
+
+/// The start of pixel `pixel`'s camera path in `iteration` (pixels row-major, `width` to a
+/// row): the path's random stream and its first ray.
+///
+/// The stream is keyed by (`seed`, `iteration`, `pixel`), never by thread, so the image is
+/// the same at any thread count; each camera pass passes its own salted `seed`, which keeps
+/// its stream apart from the others'. The ray goes through a film position drawn uniformly in
+/// the pixel's square [x, x+1) x [y, y+1), pdf 1 per unit pixel area: the pixel estimates the
+/// mean radiance over its area (a box filter), and the sample weight is 1.
+/// Always inlined: it opens the per-pixel loop of every camera pass.
+#[inline(always)]
+pub fn start_pixel_path(
+    scene: &Scene,
+    seed: u64,
+    iteration: u64,
+    pixel: usize,
+    width: usize,
+) -> (Rng, Ray) {
+    let mut rng = Rng::new(seed, iteration, pixel as u64);
+    let film = Vec2::new((pixel % width) as f32, (pixel / width) as f32) + rng.uniform2();
+    (rng, scene.camera.generate_ray(film))
+}
 
 /// The throughput of a camera path and what MIS needs to know of its previous vertex.
 #[derive(Clone, Copy, Debug)]

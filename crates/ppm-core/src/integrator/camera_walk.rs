@@ -16,7 +16,7 @@
 
 use super::direct::estimate_direct;
 use super::shading::ShadingFrame;
-use super::{CameraPath, LightStrategy};
+use super::{CameraPath, LightStrategy, RenderSettings};
 use crate::bsdf::{Bsdf, Diffuse};
 use crate::geometry::{Hit, Ray};
 use crate::sampling::Rng;
@@ -51,6 +51,19 @@ pub struct WalkParams {
     pub rr_depth: u32,
     /// How emission found by BSDF sampling is weighted (see [`CameraPath::emission`]).
     pub emission: LightStrategy,
+}
+
+impl WalkParams {
+    /// The depth limits of `settings` (`max_depth`, `rr_depth`), with emission found by BSDF
+    /// sampling weighted by `emission`.
+    #[inline(always)]
+    pub fn new(settings: &RenderSettings, emission: LightStrategy) -> Self {
+        WalkParams {
+            max_depth: settings.max_depth,
+            rr_depth: settings.rr_depth,
+            emission,
+        }
+    }
 }
 
 /// A vertex of the walk, as the integrator's closure sees it.

@@ -1,6 +1,8 @@
-//! Helpers shared by the loader tests: scratch folders and a minimal valid scene.
+//! Helpers shared by the loader tests: scratch folders, a minimal valid scene, and an OBJ
+//! loader call for the OBJ and MTL tests.
 #![allow(dead_code)]
 
+use ppm_scene::obj::{load_obj, ObjData, ObjMaterials};
 use std::path::{Path, PathBuf};
 
 /// A fresh, empty scratch folder for one test (under Cargo's per-target temp folder).
@@ -44,3 +46,14 @@ objects:
   - { type: quad, corner: [-1, 0, -1], edge_u: [0, 0, 2], edge_v: [2, 0, 0], material: white }
   - { type: sphere, center: [0, 1.5, 0], radius: 0.1, material: lamp }
 ";
+
+/// Four vertices of the unit square in z = 0, counter-clockwise seen from +z (OBJ text).
+pub const SQUARE: &str = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n";
+
+/// Loads `dir/name` with its MTL materials; panics with the loader's message on an error.
+pub fn load(dir: &Path, name: &str) -> (ObjData, Vec<String>) {
+    let mut warnings = Vec::new();
+    let data = load_obj(&dir.join(name), ObjMaterials::FromMtl, &mut warnings)
+        .unwrap_or_else(|e| panic!("{e}"));
+    (data, warnings)
+}

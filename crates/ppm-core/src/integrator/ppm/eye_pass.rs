@@ -3,12 +3,12 @@
 
 use crate::bsdf::Bsdf;
 use crate::geometry::Hit;
+use crate::integrator::camera_path::start_pixel_path;
 use crate::integrator::camera_walk::{walk, RayCounters, WalkParams};
 use crate::integrator::{DirectMode, LightStrategy, RenderSettings};
 use crate::photon::{HashGrid, Kernel};
-use crate::sampling::Rng;
 use crate::scene::Scene;
-use glam::{Vec2, Vec3};
+use glam::Vec3;
 
 /// Random streams of eye paths are kept apart from the light paths' by this salt.
 pub const EYE_STREAM: u64 = 0x6579_6570_6174_6821;
@@ -65,15 +65,10 @@ pub fn trace_eye_path(
     width: usize,
     counters: &mut RayCounters,
 ) -> Vec3 {
-    let mut rng = Rng::new(settings.seed ^ EYE_STREAM, iteration, pixel as u64);
-    let film = Vec2::new((pixel % width) as f32, (pixel / width) as f32) + rng.uniform2();
-    let ray = scene.camera.generate_ray(film);
+    let (mut rng, ray) =
+        start_pixel_path(scene, settings.seed ^ EYE_STREAM, iteration, pixel, width);
+    let params = WalkParams::new(settings, LightStrategy::Mis);
     let sampled_direct = settings.direct == DirectMode::Sampled;
-    let params = WalkParams {
-        max_depth: settings.max_depth,
-        rr_depth: settings.rr_depth,
-        emission: LightStrategy::Mis,
-    };
     walk(scene, params, ray, &mut rng, counters, |w, v, rng| {
         if let Some(diffuse) = v.bsdf.diffuse_part() {
             w.add(density_estimate(ctx, v.hit, v.wo, diffuse.albedo));

@@ -2,11 +2,11 @@
 //! bounces, to the visible point where the photons of the iteration will be gathered.
 
 use crate::bsdf::Bsdf;
+use crate::integrator::camera_path::start_pixel_path;
 use crate::integrator::camera_walk::{walk, Next, RayCounters, WalkParams};
 use crate::integrator::{DirectMode, LightStrategy, RenderSettings};
-use crate::sampling::Rng;
 use crate::scene::Scene;
-use glam::{Vec2, Vec3};
+use glam::Vec3;
 
 /// Random streams of SPPM camera paths are kept apart from every other stream by this salt.
 pub const SPPM_EYE_STREAM: u64 = 0x7370_706d_5f65_7965;
@@ -66,15 +66,15 @@ pub fn trace_camera_path(
     width: usize,
     counters: &mut RayCounters,
 ) -> (Vec3, SplatPoint) {
-    let mut rng = Rng::new(settings.seed ^ SPPM_EYE_STREAM, iteration, pixel as u64);
-    let film = Vec2::new((pixel % width) as f32, (pixel / width) as f32) + rng.uniform2();
-    let ray = scene.camera.generate_ray(film);
+    let (mut rng, ray) = start_pixel_path(
+        scene,
+        settings.seed ^ SPPM_EYE_STREAM,
+        iteration,
+        pixel,
+        width,
+    );
+    let params = WalkParams::new(settings, LightStrategy::Mis);
     let sampled_direct = settings.direct == DirectMode::Sampled;
-    let params = WalkParams {
-        max_depth: settings.max_depth,
-        rr_depth: settings.rr_depth,
-        emission: LightStrategy::Mis,
-    };
     let mut point = SplatPoint::default();
     let l = walk(scene, params, ray, &mut rng, counters, |w, v, rng| {
         let Some(diffuse) = v.bsdf.diffuse_part() else {
