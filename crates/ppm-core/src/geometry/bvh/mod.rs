@@ -1,16 +1,15 @@
 //! All primitives of a scene under one BVH: closest-hit and any-hit queries.
 //!
-//! Exact duplicate triangles are dropped first (`duplicates.rs`). obvhs builds a binary BVH
-//! in parallel (PLOC, then reinsertion and SAH leaf collapsing, at most 4 primitives per
-//! leaf); we collapse it into an 8-wide BVH (each node opens its children with
-//! the largest surface area until it holds eight, as Embree's BVH8 does) and traverse that
-//! with our own loop: one node tests the boxes of all eight children at once (one 8-lane
+//! Exact duplicate triangles are dropped first (`duplicates.rs`). The BVH is built top-down
+//! by binned SAH straight into nodes of eight children, in parallel (`build.rs`), and
+//! traversed by our own loop: one node tests the boxes of all eight children at once (one 8-lane
 //! [`crate::simd::F32x8`] operation per step), and a leaf tests its triangles as one 4-wide
 //! packet ([`TrianglePacket`]), lane for lane the scalar watertight test.
 //!
 //! - `mod.rs` (this file): the primitive storage ([`Geometry`]) and what a hit returns;
 //! - `duplicates.rs`: finding exact duplicate triangles in linear time;
-//! - `wide.rs`: the 8-wide nodes and leaves, collapsed from obvhs's binary BVH;
+//! - `build.rs`: the binned SAH build of the 8-wide tree;
+//! - `wide.rs`: the layout of the 8-wide nodes and leaves;
 //! - `traversal.rs`: the robust slab test and the stack traversal (closest and any hit).
 //!
 //! The slab test is robust: the exit distance of every box is scaled by 1 + 2 gamma(3) (Ize
@@ -19,22 +18,23 @@
 //! can drop a box. Together with the watertight triangle test no ray slips between primitives
 //! or past a box it touches.
 //!
-//! Why not obvhs's own traversals: its compressed wide BVH (CWBVH) clamps every box entry to
-//! an absolute t >= 1e-4 (`cwbvh::node::EPSILON`), so a ray 1e-5 from a wall of a unit box
-//! passes through the wall, and its `Bvh2` traversal replaces direction components below
-//! f32::EPSILON by f32::EPSILON and has no Ize correction. Our own loop also resolves equal distances by primitive id, so the BVH
-//! answers exactly like `intersect_brute_force`.
+//! The traversal resolves equal distances by primitive id, so the BVH answers exactly like
+//! `intersect_brute_force` whatever the tree's shape. (Why not obvhs's traversals, which
+//! `benches/rays.rs` still measures: its compressed wide BVH clamps every box entry to an
+//! absolute t >= 1e-4, so a ray 1e-5 from a wall of a unit box passes through the wall, and
+//! its binary traversal replaces direction components below f32::EPSILON by f32::EPSILON
+//! without Ize's correction.)
 
+mod build;
 mod duplicates;
 mod traversal;
 mod wide;
 
 use super::triangle_packet::TrianglePacket;
 use super::{Hit, Ray, Sphere, Triangle, TriangleMesh};
+use build::Aabb;
 use glam::{DVec3, Vec2, Vec3, Vec3A};
-use obvhs::aabb::Aabb;
-use obvhs::bvh2::Bvh2;
-use obvhs::BvhBuildParams;
+use rayon::prelude::*;
 use wide::{Leaf, Node, SphereRecord, WideBvh, WIDTH};
 
 /// The scene's geometry and its acceleration structure. Immutable once built.
@@ -121,44 +121,42 @@ impl Geometry {
         let spheres = spheres.to_vec();
 
         let mut aabbs: Vec<Aabb> = triangles
-            .iter()
+            .par_iter()
             .map(|t| {
                 let [a, b, c] = t.v.map(Vec3A::from);
-                Aabb::new(a.min(b).min(c), a.max(b).max(c))
+                Aabb {
+                    lo: a.min(b).min(c),
+                    hi: a.max(b).max(c),
+                }
             })
             .collect();
         aabbs.extend(spheres.iter().map(|s| {
             let r = s.radius.abs();
             if s.center.is_finite() && r.is_finite() {
                 let c = Vec3A::from(s.center);
-                Aabb::new(c - r, c + r)
+                Aabb {
+                    lo: c - r,
+                    hi: c + r,
+                }
             } else {
                 // Never hit (see `intersect_sphere`); keep it out of the way of the build.
-                Aabb::from_point(Vec3A::ZERO)
+                Aabb {
+                    lo: Vec3A::ZERO,
+                    hi: Vec3A::ZERO,
+                }
             }
         }));
-        let bounds = aabbs.iter().fold(None, |acc: Option<Aabb>, b| {
-            Some(acc.map_or(*b, |a| a.union(b)))
+        let all = aabbs.iter().fold(Aabb::EMPTY, |mut acc, b| {
+            acc.lo = acc.lo.min(b.lo);
+            acc.hi = acc.hi.max(b.hi);
+            acc
         });
-        let bounds = bounds.map_or((Vec3::ZERO, Vec3::ZERO), |b| (b.min.into(), b.max.into()));
-
-        let mut wide = WideBvh::default();
-        if !aabbs.is_empty() {
-            // Leaves of up to 4 primitives (one full packet), each leaf's size chosen by obvhs's
-            // SAH collapse (a subtree becomes a leaf when testing its primitives costs less than
-            // traversing it, at a traversal cost of 3 primitive tests). Measured on the
-            // 995,328-triangle mesh of `benches/large_mesh.rs` against the fixed 2 of before
-            // (one run each on a loaded machine): shadow rays 1.65x, camera 1.3x, incoherent
-            // 1.1x as fast, and 45% fewer nodes (docs/performance.md, 2026-12-01). PLOC, reinsertion and the collapse run on the
-            // current rayon pool (obvhs's `parallel` feature).
-            let params = BvhBuildParams {
-                max_prims_per_leaf: 4,
-                ..BvhBuildParams::medium_build()
-            };
-            let bvh: Bvh2 =
-                obvhs::bvh2::builder::build_bvh2(&aabbs, params, &mut Default::default());
-            wide.build(&bvh, &triangles, &spheres);
-        }
+        let bounds = if aabbs.is_empty() {
+            (Vec3::ZERO, Vec3::ZERO)
+        } else {
+            (all.lo.into(), all.hi.into())
+        };
+        let wide = WideBvh::build(&aabbs, &triangles, &spheres);
         Geometry {
             nodes: wide.nodes,
             leaves: wide.leaves,

@@ -1,12 +1,11 @@
-//! The 8-wide BVH: obvhs's binary BVH collapsed into nodes of eight children (each node opens
-//! its children with the largest surface area until it holds eight, as Embree's BVH8 does),
-//! with the boxes stored as structure of arrays for the 8-lane slab test.
+//! The 8-wide BVH's layout: nodes of eight children with their boxes stored as structure of
+//! arrays for the 8-lane slab test, leaves, and how a child reference names either; and the
+//! packing of the built tree's leaves into triangle packets and sphere records.
 
 use super::super::triangle_packet::TrianglePacket;
 use super::super::{Sphere, Triangle};
+use super::build::{build_tree, Aabb, PrimRef};
 use glam::Vec3;
-use obvhs::aabb::Aabb;
-use obvhs::bvh2::Bvh2;
 
 /// A sphere in a leaf.
 #[derive(Clone, Copy, Debug)]
@@ -62,7 +61,7 @@ pub(super) fn sphere_record(s: &Sphere, id: usize) -> SphereRecord {
     }
 }
 
-/// The 8-wide BVH being collapsed from obvhs's binary one.
+/// The finished BVH: nodes, leaf records, triangle packets and sphere records.
 #[derive(Default)]
 pub(super) struct WideBvh {
     pub(super) nodes: Vec<Node>,
@@ -74,82 +73,53 @@ pub(super) struct WideBvh {
 }
 
 impl WideBvh {
-    pub(super) fn build(&mut self, bvh: &Bvh2, triangles: &[Triangle], spheres: &[Sphere]) {
-        let root = &bvh.nodes[0];
-        if root.is_leaf() {
-            // A single leaf still hangs below a node: traversal starts at a node.
-            let leaf = self.leaf(bvh, 0, triangles, spheres);
-            let mut node = Node::EMPTY;
-            node.set_child(0, &root.aabb, leaf);
-            self.nodes.push(node);
-            self.depth = 1;
-        } else {
-            self.node(bvh, 0, triangles, spheres, 1);
+    /// Builds the BVH over `triangles` (ids 0..) and `spheres` (ids after the triangles),
+    /// whose boxes are `bounds` in that order.
+    /// The leaves of `build::build_tree`'s tree are packed here, in their order.
+    pub(super) fn build(bounds: &[Aabb], triangles: &[Triangle], spheres: &[Sphere]) -> Self {
+        if bounds.is_empty() {
+            return WideBvh::default();
         }
+        let n_tri = triangles.len();
+        let mut tree = build_tree(bounds, n_tri);
+        let refs = &tree.order;
+        let mut bvh = WideBvh {
+            depth: tree.depth,
+            ..WideBvh::default()
+        };
+        let references: Vec<u32> = tree
+            .leaves
+            .iter()
+            .map(|&(start, count)| {
+                let leaf = &refs[start as usize..(start + count) as usize];
+                bvh.leaf(leaf, triangles, spheres, n_tri)
+            })
+            .collect();
+        for node in &mut tree.nodes {
+            for i in 0..WIDTH {
+                if node.valid >> i & 1 == 1 && node.child[i] & LEAF != 0 {
+                    node.child[i] = references[(node.child[i] & !LEAF) as usize];
+                }
+            }
+        }
+        bvh.nodes = tree.nodes;
+        bvh
     }
 
-    /// Collapses the binary subtree under inner node `index`; returns the new node's index.
-    fn node(
-        &mut self,
-        bvh: &Bvh2,
-        index: usize,
-        triangles: &[Triangle],
-        spheres: &[Sphere],
-        depth: usize,
-    ) -> u32 {
-        self.depth = self.depth.max(depth);
-        let first = bvh.nodes[index].first_index as usize;
-        // A fixed array, not a Vec: the collapse visits every node of a million-triangle
-        // tree, and allocation would be most of its time.
-        let mut children = [0usize; WIDTH];
-        (children[0], children[1]) = (first, first + 1);
-        let mut count = 2;
-        // Open the inner child with the largest surface area until there are WIDTH.
-        while count < WIDTH {
-            let widest = (0..count)
-                .filter(|&i| !bvh.nodes[children[i]].is_leaf())
-                .max_by(|&a, &b| {
-                    let area = |i: usize| bvh.nodes[children[i]].aabb.half_area();
-                    area(a).total_cmp(&area(b))
-                });
-            let Some(i) = widest else { break };
-            let pair = bvh.nodes[children[i]].first_index as usize;
-            children.copy_within(i + 1..count, i + 2);
-            (children[i], children[i + 1]) = (pair, pair + 1);
-            count += 1;
-        }
-        let children = &children[..count];
-        let slot = self.nodes.len();
-        self.nodes.push(Node::EMPTY);
-        let mut node = Node::EMPTY;
-        for (i, &c) in children.iter().enumerate() {
-            let child = if bvh.nodes[c].is_leaf() {
-                self.leaf(bvh, c, triangles, spheres)
-            } else {
-                self.node(bvh, c, triangles, spheres, depth + 1)
-            };
-            node.set_child(i, &bvh.nodes[c].aabb, child);
-        }
-        self.nodes[slot] = node;
-        slot as u32
-    }
-
-    /// Packs the primitives of binary leaf `index`; returns its child reference.
+    /// Packs a leaf's primitives; returns its child reference.
     fn leaf(
         &mut self,
-        bvh: &Bvh2,
-        index: usize,
+        prims: &[PrimRef],
         triangles: &[Triangle],
         spheres: &[Sphere],
+        n_tri: usize,
     ) -> u32 {
-        let n = &bvh.nodes[index];
-        let prims = &bvh.primitive_indices[n.first_index as usize..][..n.prim_count as usize];
         let packets = self.packets.len() as u32;
         // Four triangles at a time into a packet, through a fixed array (no allocation).
         let mut lanes = [([Vec3::ZERO; 3], 0u32); 4];
         let mut filled = 0;
-        for &id in prims.iter().filter(|&&id| (id as usize) < triangles.len()) {
-            lanes[filled] = (triangles[id as usize].v, id);
+        for r in prims.iter().filter(|r| r.sphere == 0) {
+            lanes[filled] = (triangles[r.id as usize].v, r.id);
             filled += 1;
             if filled == 4 {
                 self.packets.push(TrianglePacket::new(&lanes));
@@ -160,19 +130,16 @@ impl WideBvh {
             self.packets.push(TrianglePacket::new(&lanes[..filled]));
         }
         let first_sphere = self.spheres.len() as u32;
-        let sphere_count = prims
-            .iter()
-            .filter(|&&id| id as usize >= triangles.len())
-            .count();
-        if sphere_count == 0 && self.packets.len() as u32 == packets + 1 && packets < PACKET {
-            return LEAF | PACKET | packets;
-        }
         self.spheres.extend(
             prims
                 .iter()
-                .filter(|&&id| id as usize >= triangles.len())
-                .map(|&id| sphere_record(&spheres[id as usize - triangles.len()], id as usize)),
+                .filter(|r| r.sphere != 0)
+                .map(|r| sphere_record(&spheres[r.id as usize - n_tri], r.id as usize)),
         );
+        let one_packet = self.packets.len() as u32 == packets + 1;
+        if first_sphere == self.spheres.len() as u32 && one_packet && packets < PACKET {
+            return LEAF | PACKET | packets;
+        }
         self.leaves.push(Leaf {
             packets: (packets, self.packets.len() as u32),
             spheres: (first_sphere, self.spheres.len() as u32),
@@ -189,10 +156,10 @@ impl Node {
         valid: 0,
     };
 
-    fn set_child(&mut self, i: usize, aabb: &Aabb, child: u32) {
+    pub(super) fn set_child(&mut self, i: usize, aabb: &Aabb, child: u32) {
         for axis in 0..3 {
-            self.min[axis][i] = aabb.min[axis];
-            self.max[axis][i] = aabb.max[axis];
+            self.min[axis][i] = aabb.lo[axis];
+            self.max[axis][i] = aabb.hi[axis];
         }
         self.child[i] = child;
         self.valid |= 1 << i;
