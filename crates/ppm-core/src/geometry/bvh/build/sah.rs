@@ -1,0 +1,392 @@
+//! The split of one set of primitives by the surface area heuristic (MacDonald and Booth
+//! 1990), which predicts the cheapest traversal of a random ray that meets the set's box:
+//!
+//! ```text
+//! cost(split) = C_TRAVERSE + (A_L / A) cost(L) + (A_R / A) cost(R)
+//! cost(leaf)  = C_PACKET ceil(triangles / 4) + C_SPHERE spheres
+//! ```
+//!
+//! where A, A_L and A_R are the surface areas of the set's box and of its two halves' boxes
+//! (the ratio is the probability that a ray meeting the set's box also meets the half's) and
+//! the children are priced as leaves (the greedy top-down SAH). A leaf's triangles are
+//! tested four at a time (`TrianglePacket`), so its cost counts packets, not triangles. A
+//! set becomes a leaf when it holds at most [`MAX_LEAF`] primitives and no split is cheaper.
+//!
+//! Candidate splits are the planes between [`BINS`] equal bins of the centroids' extent along
+//! each axis (Wald 2007, "On fast construction of SAH-based bounding volume hierarchies"):
+//! one pass bins the primitives, one sweep per axis prices every plane. A set whose
+//! centroids all coincide cannot be binned and is halved by count.
+
+use glam::Vec3A;
+use rayon::prelude::*;
+/// Centroid bins per axis.
+const BINS: usize = 32;
+
+/// Most primitives in one leaf: two triangle packets. The SAH decides below that.
+pub(super) const MAX_LEAF: usize = 8;
+
+/// SAH cost of descending one binary level, relative to one packet test. A wide node's slab
+/// test costs about one packet test and resolves about three binary levels (log2 8), which
+/// would give 1/3; rays that start inside an enclosure (every ray of an interior scene)
+/// enter every box around their origin whatever its area, which the area ratio does not
+/// see and which favours smaller leaves. 0.2 is what the shipped scenes and the large mesh
+/// measured best (docs/performance.md).
+const C_TRAVERSE: f32 = 0.2;
+
+/// SAH cost of testing one packet of up to four triangles.
+const C_PACKET: f32 = 1.0;
+
+/// SAH cost of testing one sphere.
+const C_SPHERE: f32 = 1.0;
+
+/// Sets at least this large are binned in parallel chunks and built as parallel tasks.
+pub(super) const PARALLEL_MIN: usize = 16 * 1024;
+
+/// A primitive during the build: its box and its global id (triangles first, then spheres).
+#[derive(Clone, Copy, Debug)]
+#[repr(C, align(32))]
+pub(crate) struct PrimRef {
+    lo: [f32; 3],
+    pub(crate) id: u32,
+    hi: [f32; 3],
+    /// 1 for a sphere, 0 for a triangle.
+    pub(crate) sphere: u32,
+}
+
+impl PrimRef {
+    /// A reference to primitive `id` with box `bounds`; `sphere` when the id names a sphere.
+    pub(crate) fn new(bounds: Aabb, id: u32, sphere: bool) -> Self {
+        PrimRef {
+            lo: bounds.lo.to_array(),
+            id,
+            hi: bounds.hi.to_array(),
+            sphere: sphere as u32,
+        }
+    }
+
+    #[inline(always)]
+    fn bounds(&self) -> Aabb {
+        Aabb {
+            lo: Vec3A::from_array(self.lo),
+            hi: Vec3A::from_array(self.hi),
+        }
+    }
+
+    /// Twice the centroid (lo + hi): binning only compares centroids, so the halving is left out.
+    #[inline(always)]
+    fn centroid2(&self) -> Vec3A {
+        Vec3A::from_array(self.lo) + Vec3A::from_array(self.hi)
+    }
+}
+
+/// An axis-aligned box; the empty box has lo = +inf and hi = -inf.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Aabb {
+    pub(crate) lo: Vec3A,
+    pub(crate) hi: Vec3A,
+}
+
+impl Aabb {
+    pub(crate) const EMPTY: Aabb = Aabb {
+        lo: Vec3A::INFINITY,
+        hi: Vec3A::NEG_INFINITY,
+    };
+
+    #[inline(always)]
+    fn grow(&mut self, b: &Aabb) {
+        self.lo = self.lo.min(b.lo);
+        self.hi = self.hi.max(b.hi);
+    }
+
+    #[inline(always)]
+    fn grow_point(&mut self, p: Vec3A) {
+        self.lo = self.lo.min(p);
+        self.hi = self.hi.max(p);
+    }
+
+    /// Half the surface area (the SAH only uses ratios); 0 for the empty box.
+    #[inline(always)]
+    pub(super) fn half_area(&self) -> f32 {
+        let d = (self.hi - self.lo).max(Vec3A::ZERO);
+        d.x * d.y + d.y * d.z + d.z * d.x
+    }
+}
+
+/// A set of primitives: its box, its centroids' box (of twice the centroids) and counts.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct SetInfo {
+    pub(super) bounds: Aabb,
+    centroids: Aabb,
+    triangles: u32,
+    spheres: u32,
+}
+
+impl SetInfo {
+    const EMPTY: SetInfo = SetInfo {
+        bounds: Aabb::EMPTY,
+        centroids: Aabb::EMPTY,
+        triangles: 0,
+        spheres: 0,
+    };
+
+    #[inline(always)]
+    fn add(&mut self, r: &PrimRef) {
+        self.bounds.grow(&r.bounds());
+        self.centroids.grow_point(r.centroid2());
+        if r.sphere != 0 {
+            self.spheres += 1;
+        } else {
+            self.triangles += 1;
+        }
+    }
+
+    fn merge(mut self, o: &SetInfo) -> SetInfo {
+        self.bounds.grow(&o.bounds);
+        self.centroids.grow(&o.centroids);
+        self.triangles += o.triangles;
+        self.spheres += o.spheres;
+        self
+    }
+
+    pub(super) fn count(&self) -> usize {
+        (self.triangles + self.spheres) as usize
+    }
+
+    /// The SAH cost of testing this set as one leaf.
+    fn leaf_cost(&self) -> f32 {
+        leaf_cost(self.triangles, self.spheres)
+    }
+
+    /// Over a slice of references, in parallel chunks for large slices (min, max and counts
+    /// do not depend on the order of reduction).
+    pub(super) fn of(refs: &[PrimRef]) -> SetInfo {
+        let serial = |refs: &[PrimRef]| {
+            let mut info = SetInfo::EMPTY;
+            refs.iter().for_each(|r| info.add(r));
+            info
+        };
+        if refs.len() < PARALLEL_MIN {
+            serial(refs)
+        } else {
+            refs.par_chunks(PARALLEL_MIN / 2)
+                .map(serial)
+                .reduce(|| SetInfo::EMPTY, |a, b| a.merge(&b))
+        }
+    }
+}
+
+/// How a set is to be divided.
+#[derive(Clone, Copy, Debug)]
+pub(super) enum Split {
+    /// Primitives whose centroid falls in a bin below `bin` of `bins` along `axis` go left.
+    Plane {
+        axis: usize,
+        bin: usize,
+        bins: usize,
+    },
+    /// All centroids coincide: the first half by count goes left.
+    Halves,
+}
+
+/// Binning of a set's centroids along each axis to `count` bins.
+#[derive(Clone, Copy)]
+struct Binner {
+    origin: Vec3A,
+    scale: Vec3A,
+    count: usize,
+}
+
+impl Binner {
+    fn new(centroids: &Aabb, count: usize) -> Self {
+        let extent = centroids.hi - centroids.lo;
+        // Just under `count` per extent, so the largest centroid lands in the last bin.
+        let k = count as f32 * (1.0 - 1e-5);
+        let scale = Vec3A::select(extent.cmpgt(Vec3A::ZERO), k / extent, Vec3A::ZERO);
+        Binner {
+            origin: centroids.lo,
+            scale,
+            count,
+        }
+    }
+
+    #[inline(always)]
+    fn bins(&self, r: &PrimRef) -> [usize; 3] {
+        let b = ((r.centroid2() - self.origin) * self.scale).to_array();
+        b.map(|x| (x as usize).min(self.count - 1))
+    }
+}
+
+/// What the SAH needs of a bin: the box of its primitives and their counts.
+#[derive(Clone, Copy, Debug)]
+struct Bin {
+    bounds: Aabb,
+    triangles: u32,
+    spheres: u32,
+}
+
+impl Bin {
+    const EMPTY: Bin = Bin {
+        bounds: Aabb::EMPTY,
+        triangles: 0,
+        spheres: 0,
+    };
+
+    #[inline(always)]
+    fn add(&mut self, r: &PrimRef) {
+        self.bounds.grow(&r.bounds());
+        self.triangles += 1 - r.sphere;
+        self.spheres += r.sphere;
+    }
+
+    #[inline(always)]
+    fn merge(&mut self, o: &Bin) {
+        self.bounds.grow(&o.bounds);
+        self.triangles += o.triangles;
+        self.spheres += o.spheres;
+    }
+}
+
+/// `N` bins on each axis.
+type Bins<const N: usize> = [[Bin; N]; 3];
+
+/// Each primitive added to its bin on each axis: serially, or for large sets in parallel
+/// chunks merged after (the result does not depend on the order of merging).
+fn bin_refs<const N: usize>(binner: &Binner, refs: &[PrimRef]) -> Bins<N> {
+    let serial = |refs: &[PrimRef]| {
+        let mut bins = [[Bin::EMPTY; N]; 3];
+        for r in refs {
+            let b = binner.bins(r);
+            for axis in 0..3 {
+                bins[axis][b[axis]].add(r);
+            }
+        }
+        bins
+    };
+    if refs.len() < PARALLEL_MIN {
+        return serial(refs);
+    }
+    refs.par_chunks(PARALLEL_MIN / 2).map(serial).reduce(
+        || [[Bin::EMPTY; N]; 3],
+        |mut a, b| {
+            for axis in 0..3 {
+                for i in 0..N {
+                    a[axis][i].merge(&b[axis][i]);
+                }
+            }
+            a
+        },
+    )
+}
+
+/// The SAH cost of a leaf of `triangles` and `spheres`.
+#[inline(always)]
+fn leaf_cost(triangles: u32, spheres: u32) -> f32 {
+    C_PACKET * triangles.div_ceil(4) as f32 + C_SPHERE * spheres as f32
+}
+
+/// The SAH's choice for a set: `None` makes it a leaf.
+pub(super) fn choose_split(refs: &[PrimRef], info: &SetInfo) -> Option<Split> {
+    let n = info.count();
+    if n <= 1 {
+        return None;
+    }
+    let extent = info.centroids.hi - info.centroids.lo;
+    if extent.max_element() <= 0.0 {
+        // Coincident centroids: nothing to bin; halve by count if the set is too big.
+        return (n > MAX_LEAF).then_some(Split::Halves);
+    }
+    // Fewer bins for small sets: sweeping 32 bins costs more than it finds among a few.
+    let (cost, split) = match n {
+        0..=8 => best_plane::<8>(refs, info),
+        9..=16 => best_plane::<16>(refs, info),
+        _ => best_plane::<BINS>(refs, info),
+    }?;
+    let area = info.bounds.half_area();
+    let split_cost = C_TRAVERSE + if area > 0.0 { cost / area } else { 0.0 };
+    if n <= MAX_LEAF && split_cost >= info.leaf_cost() {
+        return None;
+    }
+    Some(split)
+}
+
+/// The cheapest plane between `N` bins along any axis, with its SAH term A_L cost(L) +
+/// A_R cost(R); `None` if no plane has primitives on both sides.
+fn best_plane<const N: usize>(refs: &[PrimRef], info: &SetInfo) -> Option<(f32, Split)> {
+    let binner = Binner::new(&info.centroids, N);
+    let bins = bin_refs::<N>(&binner, refs);
+    let extent = info.centroids.hi - info.centroids.lo;
+    let mut best: Option<(f32, Split)> = None;
+    for (axis, bins) in bins.iter().enumerate() {
+        if extent[axis] <= 0.0 {
+            continue;
+        }
+        // right_cost[i], right_count[i]: bins i.. as one side, swept from the right.
+        let (mut right_cost, mut right_count) = ([0.0f32; N], [0u32; N]);
+        let mut right = Bin::EMPTY;
+        for i in (1..N).rev() {
+            right.merge(&bins[i]);
+            right_cost[i] = right.bounds.half_area() * leaf_cost(right.triangles, right.spheres);
+            right_count[i] = right.triangles + right.spheres;
+        }
+        let mut left = Bin::EMPTY;
+        for i in 1..N {
+            left.merge(&bins[i - 1]);
+            if left.triangles + left.spheres == 0 || right_count[i] == 0 {
+                continue;
+            }
+            let cost =
+                left.bounds.half_area() * leaf_cost(left.triangles, left.spheres) + right_cost[i];
+            if best.is_none_or(|(c, _)| cost < c) {
+                let split = Split::Plane {
+                    axis,
+                    bin: i,
+                    bins: N,
+                };
+                best = Some((cost, split));
+            }
+        }
+    }
+    best
+}
+
+/// Divides `refs` as `split` says; returns the left count and both halves' sets.
+pub(super) fn partition(
+    refs: &mut [PrimRef],
+    info: &SetInfo,
+    split: &Split,
+) -> (usize, SetInfo, SetInfo) {
+    match *split {
+        Split::Plane { axis, bin, bins } => {
+            let binner = Binner::new(&info.centroids, bins);
+            let goes_left = |r: &PrimRef| binner.bins(r)[axis] < bin;
+            // Two-finger partition, deterministic and in place; each primitive is added to
+            // its side's set as the fingers pass it.
+            let (mut left, mut right) = (SetInfo::EMPTY, SetInfo::EMPTY);
+            let (mut i, mut j) = (0, refs.len());
+            loop {
+                while i < j && goes_left(&refs[i]) {
+                    left.add(&refs[i]);
+                    i += 1;
+                }
+                while i < j && !goes_left(&refs[j - 1]) {
+                    right.add(&refs[j - 1]);
+                    j -= 1;
+                }
+                if i >= j {
+                    break;
+                }
+                refs.swap(i, j - 1);
+                left.add(&refs[i]);
+                right.add(&refs[j - 1]);
+                i += 1;
+                j -= 1;
+            }
+            (i, left, right)
+        }
+        Split::Halves => {
+            let mid = refs.len() / 2;
+            let (l, r) = refs.split_at(mid);
+            (mid, SetInfo::of(l), SetInfo::of(r))
+        }
+    }
+}
