@@ -1,14 +1,14 @@
 //! All primitives of a scene under one BVH: closest-hit and any-hit queries.
 //!
 //! Exact duplicate triangles are dropped first (`duplicates.rs`). The BVH is built top-down
-//! by binned SAH straight into nodes of eight children, in parallel (`build.rs`), and
+//! by binned SAH straight into nodes of eight children, in parallel (`build/`), and
 //! traversed by our own loop: one node tests the boxes of all eight children at once (one 8-lane
 //! [`crate::simd::F32x8`] operation per step), and a leaf tests its triangles as one 4-wide
 //! packet ([`TrianglePacket`]), lane for lane the scalar watertight test.
 //!
 //! - `mod.rs` (this file): the primitive storage ([`Geometry`]) and what a hit returns;
 //! - `duplicates.rs`: finding exact duplicate triangles in linear time;
-//! - `build.rs`: the binned SAH build of the 8-wide tree;
+//! - `build/`: the binned SAH build of the 8-wide tree;
 //! - `wide.rs`: the layout of the 8-wide nodes and leaves;
 //! - `traversal.rs`: the robust slab test and the stack traversal (closest and any hit).
 //!
@@ -147,8 +147,7 @@ impl Geometry {
             }
         }));
         let all = aabbs.iter().fold(Aabb::EMPTY, |mut acc, b| {
-            acc.lo = acc.lo.min(b.lo);
-            acc.hi = acc.hi.max(b.hi);
+            acc.grow(b);
             acc
         });
         let bounds = if aabbs.is_empty() {

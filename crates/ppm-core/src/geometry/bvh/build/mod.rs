@@ -80,14 +80,13 @@ fn build_node(
     // Split the widest child the SAH would split, until there are eight.
     while count < WIDTH {
         let widest = (0..count)
-            .filter(|&i| children[i].split.is_some())
-            .max_by(|&a, &b| {
+            .filter_map(|i| children[i].split.map(|split| (i, split)))
+            .max_by(|(a, _), (b, _)| {
                 let area = |i: usize| children[i].info.bounds.half_area();
-                area(a).total_cmp(&area(b))
+                area(*a).total_cmp(&area(*b))
             });
-        let Some(i) = widest else { break };
+        let Some((i, split)) = widest else { break };
         let c = children[i];
-        let Some(split) = c.split else { break };
         let slice = &mut refs[c.start..c.end];
         let (mid, left, right) = partition(slice, &c.info, &split);
         let (l, r) = slice.split_at(mid);

@@ -93,7 +93,7 @@ impl Aabb {
     };
 
     #[inline(always)]
-    fn grow(&mut self, b: &Aabb) {
+    pub(crate) fn grow(&mut self, b: &Aabb) {
         self.lo = self.lo.min(b.lo);
         self.hi = self.hi.max(b.hi);
     }
