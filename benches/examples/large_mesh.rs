@@ -4,7 +4,8 @@
 //! `cargo run --release -p ppm-benches --example large_mesh -- [--write FILE] [--threads N]
 //! [--n SUBDIVISIONS] [--reps R] [--scene NAME]` prints the BVH build time, the geometry's
 //! bytes per triangle and, per ray set, the hits and the rays per second (best and median of
-//! R repetitions) on a pool of N threads. `--scene cornell_box_water.yml` uses a shipped scene
+//! R repetitions) on a pool of N threads, and the tree's counts and SAH cost
+//! (`Geometry::bvh_stats`). `--scene cornell_box_water.yml` uses a shipped scene
 //! (without its spheres, which another ray tracer would not share) instead of the large mesh.
 
 use ppm_benches::large_mesh::{large_scene, ray_sets, write_ray_file, LARGE_N};
@@ -60,6 +61,19 @@ fn main() {
         min(&builds) * 1e3,
         median(&mut builds) * 1e3,
         bytes as f64 / tris as f64
+    );
+    let s = scene.geometry.bvh_stats();
+    println!(
+        "bvh nodes {} ({:.2} children each) leaves {} packets {} ({:.2} triangles each) depth {} sah nodes {:.3} leaves {:.3} total {:.3}",
+        s.nodes,
+        s.children as f64 / s.nodes as f64,
+        s.leaves,
+        s.packets,
+        tris as f64 / s.packets as f64,
+        s.depth,
+        s.sah_nodes,
+        s.sah_leaves,
+        s.sah_nodes + s.sah_leaves
     );
     for (name, rays, any) in [
         ("camera", &sets.camera, false),

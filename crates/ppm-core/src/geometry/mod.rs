@@ -11,7 +11,7 @@ mod sphere;
 mod triangle;
 mod triangle_packet;
 
-pub use bvh::Geometry;
+pub use bvh::{BvhStats, Geometry};
 pub use mesh::TriangleMesh;
 pub use ray::Ray;
 pub use sphere::Sphere;

@@ -27,6 +27,7 @@
 
 mod build;
 mod duplicates;
+mod stats;
 mod traversal;
 mod wide;
 
@@ -35,6 +36,7 @@ use super::{Hit, Ray, Sphere, Triangle, TriangleMesh};
 use build::Aabb;
 use glam::{DVec3, Vec2, Vec3, Vec3A};
 use rayon::prelude::*;
+pub use stats::BvhStats;
 use wide::{Leaf, Node, SphereRecord, WideBvh, WIDTH};
 
 /// The scene's geometry and its acceleration structure. Immutable once built.
