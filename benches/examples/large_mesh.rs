@@ -2,11 +2,12 @@
 //! a file for an outside ray tracer, and times ppm on the very same rays.
 //!
 //! `cargo run --release -p ppm-benches --example large_mesh -- [--write FILE] [--threads N]
-//! [--n SUBDIVISIONS] [--reps R] [--scene NAME]` prints the BVH build time, the geometry's
-//! bytes per triangle and, per ray set, the hits and the rays per second (best and median of
-//! R repetitions) on a pool of N threads, and the tree's counts and SAH cost
-//! (`Geometry::bvh_stats`). `--scene cornell_box_water.yml` uses a shipped scene
-//! (without its spheres, which another ray tracer would not share) instead of the large mesh.
+//! [--n SUBDIVISIONS] [--reps R] [--build-reps B] [--scene NAME] [--only SET]` prints the BVH
+//! build time (B rebuilds, default R), the geometry's bytes per triangle, the tree's counts and
+//! SAH cost (`Geometry::bvh_stats`) and, per ray set (camera, incoherent, shadow; or only SET),
+//! the hits and the rays per second (best and median of R repetitions) on a pool of N threads.
+//! `--scene cornell_box_water.yml` uses a shipped scene (without its spheres, which another ray
+//! tracer would not share) instead of the large mesh.
 
 use ppm_benches::large_mesh::{large_scene, ray_sets, write_ray_file, LARGE_N};
 use ppm_core::geometry::Geometry;
@@ -17,6 +18,7 @@ use std::time::Instant;
 fn main() {
     let mut args = std::env::args().skip(1);
     let (mut write, mut threads, mut n, mut reps, mut scene_name) = (None, 1, LARGE_N, 5, None);
+    let (mut only, mut build_reps): (Option<String>, Option<usize>) = (None, None);
     while let Some(a) = args.next() {
         let mut value = || args.next().expect("a value after the flag");
         match a.as_str() {
@@ -25,6 +27,8 @@ fn main() {
             "--n" => n = value().parse().expect("--n SUBDIVISIONS"),
             "--reps" => reps = value().parse().expect("--reps R"),
             "--scene" => scene_name = Some(value()),
+            "--only" => only = Some(value()),
+            "--build-reps" => build_reps = Some(value().parse().expect("--build-reps B")),
             other => panic!("unknown argument {other}"),
         }
     }
@@ -48,7 +52,7 @@ fn main() {
     // Rebuild the BVH alone over the scene's triangles, as the scene build did.
     let meshes = [triangles_as_mesh(&scene.geometry)];
     let mut builds = Vec::new();
-    for _ in 0..reps {
+    for _ in 0..build_reps.unwrap_or(reps) {
         let start = Instant::now();
         let g = pool.install(|| Geometry::new(&meshes, &[]));
         builds.push(start.elapsed().as_secs_f64());
@@ -59,7 +63,7 @@ fn main() {
     println!(
         "triangles {tris} threads {threads} build_ms min {:.1} median {:.1} geometry_bytes {bytes} ({:.1} B/tri)",
         min(&builds) * 1e3,
-        median(&mut builds) * 1e3,
+        if builds.is_empty() { f64::NAN } else { median(&mut builds) * 1e3 },
         bytes as f64 / tris as f64
     );
     let s = scene.geometry.bvh_stats();
@@ -80,6 +84,9 @@ fn main() {
         ("incoherent", &sets.incoherent, false),
         ("shadow", &sets.shadow, true),
     ] {
+        if only.as_ref().is_some_and(|o| o != name) {
+            continue;
+        }
         let mut times = Vec::new();
         let mut hits = 0;
         for _ in 0..reps {
