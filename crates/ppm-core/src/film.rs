@@ -74,12 +74,35 @@ fn to_fixed(e: f32) -> u128 {
 
 /// Estimates below 2^15 are below 2^63 units: [`to_fixed_small`] converts them.
 const SMALL_ESTIMATE: f32 = 32768.0;
+/// The bits of [`SMALL_ESTIMATE`]: an f32 whose bits, read as an unsigned integer, are below
+/// these is in [+0, 2^15) (negative values, -0, infinities and NaN all have larger patterns).
+const SMALL_ESTIMATE_BITS: u32 = SMALL_ESTIMATE.to_bits();
 
-/// [`to_fixed`] of an estimate in [0, [`SMALL_ESTIMATE`]) (or -0): no clamp, and the f64
-/// to i64 conversion alone (the same value).
+/// [`to_fixed`] of an estimate in [-0, [`SMALL_ESTIMATE`]), the same value in fewer
+/// instructions: no clamp, and rounding half away from zero as truncation after adding 1/2.
+///
+/// x = e 2^48 is exact, and the truncation of the computed x + 0.5 is round(x) for every f32 e
+/// in range: x has at most 24 significant bits, so x + 0.5 is exact unless x < 2^-6 (its
+/// lowest bit below 2^-29; then x + 0.5 rounds into [0.5, 0.52], truncated to 0 = round(x))
+/// or x >= 2^52 (a whole number whose lowest bit is at least 2^29; 0.5 is then at most half
+/// an ulp and rounds back to x, ties to even x). At most x + 0.5 = 2^63 - 2^39.
+///
+/// # Safety
+/// `e` must be in [-0, [`SMALL_ESTIMATE`]): the truncation is unchecked (no saturation, no
+/// NaN test), which needs a finite value in (-1, 2^63).
 #[inline]
-fn to_fixed_small(e: f32) -> u128 {
-    ((e as f64) * FIXED_POINT_SCALE).round() as i64 as u64 as u128
+unsafe fn to_fixed_small(e: f32) -> u128 {
+    let units = (e as f64) * FIXED_POINT_SCALE + 0.5;
+    // SAFETY: by the caller's contract units is finite and in [0.5, 2^63 - 2^39] (above).
+    unsafe { units.to_int_unchecked::<i64>() as u64 as u128 }
+}
+
+/// `sum + units`, saturating at u128::MAX (the same as `u128::saturating_add`, written as a
+/// mask so that it compiles to add, add-with-carry and two ORs, without a branch).
+#[inline]
+fn saturating_add_fixed(sum: u128, units: u128) -> u128 {
+    let (total, overflow) = sum.overflowing_add(units);
+    total | 0u128.wrapping_sub(overflow as u128)
 }
 
 /// A fixed-point sum as a value: the sum correctly rounded to f64 (the value of `sum as
@@ -216,15 +239,18 @@ impl Film {
                 let mut rejected = 0u64;
                 let mut first = None;
                 for (i, (s, e)) in sums.iter_mut().zip(estimates).enumerate() {
-                    // Most estimates are in [0, 2^15) in every channel (NaN fails both
-                    // comparisons): one test for the pixel, then no branch per channel.
-                    if e.cmpge(Vec3::ZERO).all() && e.cmplt(Vec3::splat(SMALL_ESTIMATE)).all() {
-                        for (c, v) in s.iter_mut().zip(e.to_array()) {
-                            *c = c.saturating_add(to_fixed_small(v));
+                    // Most estimates are in [+0, 2^15) in every channel: one integer test of
+                    // the largest bit pattern for the pixel, then no branch per channel.
+                    let bits = e.to_array().map(f32::to_bits);
+                    if bits[0].max(bits[1]).max(bits[2]) < SMALL_ESTIMATE_BITS {
+                        for (c, b) in s.iter_mut().zip(bits) {
+                            // SAFETY: every channel is in [+0, 2^15) (the test above).
+                            let units = unsafe { to_fixed_small(f32::from_bits(b)) };
+                            *c = saturating_add_fixed(*c, units);
                         }
                     } else if e.is_finite() && e.min_element() >= 0.0 {
                         for (c, v) in s.iter_mut().zip(e.to_array()) {
-                            *c = c.saturating_add(to_fixed(v));
+                            *c = saturating_add_fixed(*c, to_fixed(v));
                         }
                     } else {
                         rejected += 1;
@@ -402,10 +428,38 @@ mod tests {
             }
         }
         estimates.extend([0.0, -0.0, f32::MIN_POSITIVE, 1e-45, f32::MAX]);
+        // Where rounding decides: ties x = k + 1/2 units (round away from zero), the values
+        // next to 1/2 unit, and around 2^-25 (2^23 units, above which every x is whole) and
+        // 2^4 .. 2^5 (2^52 .. 2^53 units, where adding 1/2 is itself a tie in f64).
+        let unit = 2f32.powi(-(FIXED_POINT_BITS as i32));
+        for k in [0.5f32, 1.5, 2.5, 3.5, 1023.5, 8_388_607.5] {
+            let tie = k * unit;
+            for e in [
+                tie,
+                f32::from_bits(tie.to_bits() - 1),
+                f32::from_bits(tie.to_bits() + 1),
+            ] {
+                estimates.push(e);
+            }
+        }
+        for boundary in [2f32.powi(-25), 16.0, 17.0, 31.0] {
+            for d in 0..4 {
+                estimates.extend([
+                    f32::from_bits(boundary.to_bits() - d),
+                    f32::from_bits(boundary.to_bits() + d),
+                ]);
+            }
+        }
         for &e in &estimates {
             assert_eq!(to_fixed(e), reference_to(e), "{e:e}");
             if e < SMALL_ESTIMATE {
-                assert_eq!(to_fixed_small(e), reference_to(e), "{e:e}");
+                // SAFETY: e is in [-0, 2^15) (every value here is non-negative or -0).
+                assert_eq!(unsafe { to_fixed_small(e) }, reference_to(e), "{e:e}");
+            }
+        }
+        for sum in [0u128, 1, u128::MAX - 5, u128::MAX] {
+            for units in [0u128, 1, 5, 6, 1 << 62] {
+                assert_eq!(saturating_add_fixed(sum, units), sum.saturating_add(units));
             }
         }
         // The film's two paths (every channel small, or not) add what the reference converts.

@@ -47,10 +47,19 @@ impl PixelBounds {
     }
 
     /// The full-image pixel index of the window's `local`-th pixel (row-major in the window).
+    /// A window of whole rows (the whole image, the usual case) is one contiguous run of the
+    /// full image: its index is an addition, without the division a narrower window needs
+    /// (called once per pixel per iteration).
     #[inline]
     pub fn full_index(&self, local: usize) -> usize {
         let w = self.width() as usize;
-        (self.y0 as usize + local / w) * self.full_width as usize + self.x0 as usize + local % w
+        let fw = self.full_width as usize;
+        let first = self.y0 as usize * fw + self.x0 as usize;
+        if w == fw {
+            first + local
+        } else {
+            first + (local / w) * fw + local % w
+        }
     }
 }
 
@@ -71,5 +80,14 @@ mod tests {
         };
         let got: Vec<usize> = (0..crop.len()).map(|i| crop.full_index(i)).collect();
         assert_eq!(got, [9, 10, 11, 16, 17, 18]);
+        // A band of whole rows (the contiguous case, no division).
+        let band = PixelBounds {
+            x0: 0,
+            x1: 7,
+            y0: 2,
+            y1: 4,
+            full_width: 7,
+        };
+        assert!((0..band.len()).all(|i| band.full_index(i) == 14 + i));
     }
 }

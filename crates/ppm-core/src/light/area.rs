@@ -43,7 +43,7 @@ impl Emitter {
 
     /// A light path leaving the point: a cosine-weighted direction about the emitting normal
     /// (pdf cos/pi), so the flux weight Le cos / (p_A p_w) = pi A Le for every sample.
-    #[inline]
+    #[inline(always)]
     pub(super) fn sample_emission(&self, u_dir: Vec2) -> EmissionSample {
         let pdf_area = 1.0 / self.area;
         let local = cosine_hemisphere(u_dir);

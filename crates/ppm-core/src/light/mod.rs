@@ -162,7 +162,9 @@ impl Light {
     /// and a cosine-weighted direction (pdf cos/pi) about the emitting normal, so the flux
     /// weight Le cos / (p_area p_dir) = pi A Le is the same for every sample. Point lights: a
     /// uniform direction (pdf 1/(4 pi)), weight 4 pi I.
-    #[inline]
+    /// Always inlined (once per light path): left to LLVM it stayed a call, and so did the
+    /// emitter's sampling inside it.
+    #[inline(always)]
     pub fn sample_emission(&self, u_pos: Vec2, u_dir: Vec2) -> EmissionSample {
         match self {
             Light::Triangle(light) => light.emitter(u_pos).sample_emission(u_dir),

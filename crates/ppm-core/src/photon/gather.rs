@@ -34,9 +34,22 @@ impl Columns {
     /// All columns, for block reads.
     #[inline(always)]
     pub(super) fn view(&self) -> ColumnsView<'_> {
-        let columns = [&self.position, &self.flux, &self.wi].map(|c| c.each_ref());
-        let [[x, y, z], [r, g, b], [u, v, w]] = columns;
-        let all = [x, y, z, r, g, b, u, v, w].map(Vec::as_slice);
+        // Spelled out rather than through array `map`, which LLVM does not always inline
+        // (it became a call per density estimate when an unrelated file changed).
+        let [x, y, z] = &self.position;
+        let [r, g, b] = &self.flux;
+        let [u, v, w] = &self.wi;
+        let all = [
+            x.as_slice(),
+            y.as_slice(),
+            z.as_slice(),
+            r.as_slice(),
+            g.as_slice(),
+            b.as_slice(),
+            u.as_slice(),
+            v.as_slice(),
+            w.as_slice(),
+        ];
         // Equal lengths let the compiler check a block read against one of them only.
         let len = all[0].len();
         assert!(all.iter().all(|c| c.len() == len));

@@ -56,6 +56,10 @@ pub fn density_estimate(ctx: &GatherContext<'_>, hit: &Hit, wo: Vec3, albedo: Ve
 /// - the non-diffuse part is traced (6.4, [`crate::integrator::Walk::trace_non_diffuse`]): a glossy part gets a
 ///   light sample MIS-weighted against the BSDF sample that continues the path; a delta part
 ///   only continues. Without a non-diffuse part the path ends.
+///
+/// Always inlined into the pass's loop over pixels: as a call it loaded and spilled about 80
+/// instructions' worth of loop invariants (scene and gather fields) for every pixel.
+#[inline(always)]
 pub fn trace_eye_path(
     scene: &Scene,
     settings: &RenderSettings,

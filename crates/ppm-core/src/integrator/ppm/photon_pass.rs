@@ -63,7 +63,10 @@ pub fn stores_photons(bsdf: &Bsdf) -> bool {
 /// correction. Russian roulette keeps photons of about equal power: the survival probability
 /// is q = min(1, max(flux after) / max(flux before)) (the reflectivity of the bounce along the
 /// sampled direction), and survivors are divided by q.
-#[inline]
+/// Always inlined into the pass's loop over paths, as at afc2b78 before the walk became
+/// generic over its sink: left to LLVM it became a call per path that re-derives its
+/// loop invariants and keeps the ray counters in memory.
+#[inline(always)]
 pub fn trace_light_path<S: PhotonSink>(
     scene: &Scene,
     settings: &RenderSettings,
