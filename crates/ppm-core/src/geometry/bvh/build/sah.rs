@@ -277,6 +277,11 @@ impl Bin {
     }
 
     #[inline(always)]
+    fn is_empty(&self) -> bool {
+        self.triangles + self.spheres == 0
+    }
+
+    #[inline(always)]
     fn merge(&mut self, o: &Bin) {
         self.bounds.grow(&o.bounds);
         self.triangles += o.triangles;
@@ -392,18 +397,27 @@ fn best_plane<const N: usize>(refs: &[PrimRef], info: &SetInfo) -> Option<(f32, 
         if extent[axis] <= 0.0 {
             continue;
         }
-        // right_cost[i], right_count[i]: bins i.. as one side, swept from the right.
+        // right_cost[i], right_count[i]: bins i.. as one side, swept from the right. Merging
+        // an empty bin changes nothing, so its cost is carried over, not recomputed.
         let (mut right_cost, mut right_count) = ([0.0f32; N], [0u32; N]);
-        let mut right = Bin::EMPTY;
+        let (mut right, mut cost) = (Bin::EMPTY, 0.0);
         for i in (1..N).rev() {
-            right.merge(&bins[i]);
-            right_cost[i] = right.bounds.half_area() * leaf_cost(right.triangles, right.spheres);
+            if !bins[i].is_empty() {
+                right.merge(&bins[i]);
+                cost = right.bounds.half_area() * leaf_cost(right.triangles, right.spheres);
+            }
+            right_cost[i] = cost;
             right_count[i] = right.triangles + right.spheres;
         }
         let mut left = Bin::EMPTY;
         for i in 1..N {
+            // With bin i - 1 empty, plane i divides as plane i - 1 did, at the same cost,
+            // which is not strictly cheaper: only planes above a full bin are priced.
+            if bins[i - 1].is_empty() {
+                continue;
+            }
             left.merge(&bins[i - 1]);
-            if left.triangles + left.spheres == 0 || right_count[i] == 0 {
+            if right_count[i] == 0 {
                 continue;
             }
             let cost =
