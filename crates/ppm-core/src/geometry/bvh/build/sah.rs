@@ -133,11 +133,8 @@ impl SetInfo {
     fn add(&mut self, r: &PrimRef) {
         self.bounds.grow(&r.bounds());
         self.centroids.grow_point(r.centroid2());
-        if r.sphere != 0 {
-            self.spheres += 1;
-        } else {
-            self.triangles += 1;
-        }
+        self.triangles += 1 - r.sphere;
+        self.spheres += r.sphere;
     }
 
     fn merge(mut self, o: &SetInfo) -> SetInfo {
@@ -189,15 +186,26 @@ pub(super) enum Split {
 }
 
 /// Binning of a set's centroids along each axis to `count` bins.
+///
+/// A primitive's position along an axis is `(2 centroid - origin) * scale`, in bin units;
+/// its bin is `floor(position)` clamped to `0..count` (a NaN position, from a centroid at
+/// infinity, is bin 0). Binning and partition both go through [`Binner::position`], so a
+/// primitive is put on the side of the plane that the SAH priced it on.
 #[derive(Clone, Copy)]
-struct Binner {
+pub(super) struct Binner {
     origin: Vec3A,
     scale: Vec3A,
-    count: usize,
+    /// The last bin, `count - 1`, as a float.
+    last: f32,
 }
 
+/// 2^23: a float in [2^23, 2^24) has no fraction bits, so adding it to an integer-valued
+/// float below 2^23 is exact and leaves the integer in the low bits of the mantissa.
+const TWO_POW_23: f32 = 8_388_608.0;
+
 impl Binner {
-    fn new(centroids: &Aabb, count: usize) -> Self {
+    pub(super) fn new(centroids: &Aabb, count: usize) -> Self {
+        debug_assert!(count >= 1 && (count as f32) < TWO_POW_23);
         let extent = centroids.hi - centroids.lo;
         // Just under `count` per extent, so the largest centroid lands in the last bin.
         let k = count as f32 * (1.0 - 1e-5);
@@ -205,14 +213,44 @@ impl Binner {
         Binner {
             origin: centroids.lo,
             scale,
-            count,
+            last: (count - 1) as f32,
         }
     }
 
+    /// The primitive's position along each axis, in bins.
     #[inline(always)]
-    fn bins(&self, r: &PrimRef) -> [usize; 3] {
-        let b = ((r.centroid2() - self.origin) * self.scale).to_array();
-        b.map(|x| (x as usize).min(self.count - 1))
+    fn position(&self, r: &PrimRef) -> Vec3A {
+        (r.centroid2() - self.origin) * self.scale
+    }
+
+    /// The primitive's bin along each axis: `floor(position)` clamped to `0..=last`, NaN to
+    /// 0, which is what `(position as usize).min(last)` gives, without the saturating
+    /// conversion's fix-up code per lane. The clamps are done first, in floats, so the
+    /// floor is an integer in `0..=last` and the 2^23 trick converts it exactly.
+    #[inline(always)]
+    pub(super) fn bins(&self, r: &PrimRef) -> [usize; 3] {
+        self.position(r).to_array().map(|x| {
+            let x = if x >= 0.0 { x } else { 0.0 };
+            let x = if x < self.last { x } else { self.last };
+            ((x.floor() + TWO_POW_23).to_bits() - TWO_POW_23.to_bits()) as usize
+        })
+    }
+
+    /// Whether the primitive's bin along `axis` is below `plane` (`1..=last`), from that
+    /// axis alone: for `0 <= plane <= last` an integer, `min(floor(x), last) < plane`
+    /// exactly when `x < plane`, and a NaN position (bin 0) is below too. `origin` and
+    /// `scale` are this binner's along `axis`, hoisted out of the partition's loop by
+    /// [`Binner::axis`].
+    #[inline(always)]
+    pub(super) fn below(r: &PrimRef, axis: usize, (origin, scale): (f32, f32), plane: f32) -> bool {
+        // The same float operations as `position`'s lane `axis`: (lo + hi - origin) * scale.
+        let x = (r.lo[axis] + r.hi[axis] - origin) * scale;
+        x < plane || x.is_nan()
+    }
+
+    /// The origin and scale along `axis`.
+    pub(super) fn axis(&self, axis: usize) -> (f32, f32) {
+        (self.origin[axis], self.scale[axis])
     }
 }
 
@@ -239,6 +277,11 @@ impl Bin {
     }
 
     #[inline(always)]
+    fn is_empty(&self) -> bool {
+        self.triangles + self.spheres == 0
+    }
+
+    #[inline(always)]
     fn merge(&mut self, o: &Bin) {
         self.bounds.grow(&o.bounds);
         self.triangles += o.triangles;
@@ -249,33 +292,64 @@ impl Bin {
 /// `N` bins on each axis.
 type Bins<const N: usize> = [[Bin; N]; 3];
 
-/// Each primitive added to its bin on each axis: serially, or for large sets in parallel
-/// chunks merged after (the result does not depend on the order of merging).
-fn bin_refs<const N: usize>(binner: &Binner, refs: &[PrimRef]) -> Bins<N> {
-    let serial = |refs: &[PrimRef]| {
-        let mut bins = [[Bin::EMPTY; N]; 3];
-        for r in refs {
-            let b = binner.bins(r);
-            for axis in 0..3 {
-                bins[axis][b[axis]].add(r);
-            }
+/// Each primitive added to its bin on each axis, into `bins` (empty on entry): serially, or
+/// for large sets in parallel chunks merged after (the result does not depend on the order
+/// of merging). `spheres`: whether the set holds any sphere; without, the sphere counts are
+/// left at 0 and only the triangle counts kept.
+fn bin_refs<const N: usize>(binner: &Binner, refs: &[PrimRef], spheres: bool, bins: &mut Bins<N>) {
+    let serial = |refs: &[PrimRef], bins: &mut Bins<N>| {
+        if spheres {
+            bin_serial::<N, true>(binner, refs, bins)
+        } else {
+            bin_serial::<N, false>(binner, refs, bins)
         }
-        bins
     };
     if refs.len() < PARALLEL_MIN {
-        return serial(refs);
+        return serial(refs, bins);
     }
-    refs.par_chunks(PARALLEL_MIN / 2).map(serial).reduce(
-        || [[Bin::EMPTY; N]; 3],
-        |mut a, b| {
-            for axis in 0..3 {
-                for i in 0..N {
-                    a[axis][i].merge(&b[axis][i]);
+    *bins = refs
+        .par_chunks(PARALLEL_MIN / 2)
+        .map(|chunk| {
+            let mut bins = [[Bin::EMPTY; N]; 3];
+            serial(chunk, &mut bins);
+            bins
+        })
+        .reduce(
+            || [[Bin::EMPTY; N]; 3],
+            |mut a, b| {
+                for axis in 0..3 {
+                    for i in 0..N {
+                        a[axis][i].merge(&b[axis][i]);
+                    }
                 }
+                a
+            },
+        );
+}
+
+/// The binning loop over one run of primitives; `SPHERES` as `bin_refs`'s `spheres`.
+#[inline(always)]
+fn bin_serial<const N: usize, const SPHERES: bool>(
+    binner: &Binner,
+    refs: &[PrimRef],
+    bins: &mut Bins<N>,
+) {
+    const { assert!(N.is_power_of_two()) };
+    for r in refs {
+        let b = binner.bins(r);
+        let bounds = r.bounds();
+        for axis in 0..3 {
+            // The bin is at most N - 1 already; the mask only lets the compiler see it.
+            let bin = &mut bins[axis][b[axis] & (N - 1)];
+            bin.bounds.grow(&bounds);
+            if SPHERES {
+                bin.triangles += 1 - r.sphere;
+                bin.spheres += r.sphere;
+            } else {
+                bin.triangles += 1;
             }
-            a
-        },
-    )
+        }
+    }
 }
 
 /// The SAH cost of a leaf of `triangles` and `spheres`.
@@ -296,9 +370,11 @@ pub(super) fn choose_split(refs: &[PrimRef], info: &SetInfo) -> Option<Split> {
         return (n > MAX_LEAF).then_some(Split::Halves);
     }
     // Fewer bins for small sets: sweeping 32 bins costs more than it finds among a few.
+    // Small sets are not binned at all but sorted by bin (`best_plane_sorted`, the same
+    // choice).
     let (cost, split) = match n {
-        0..=8 => best_plane::<8>(refs, info),
-        9..=16 => best_plane::<16>(refs, info),
+        0..=8 => best_plane_sorted::<8>(refs, info),
+        9..=SMALL => best_plane_sorted::<16>(refs, info),
         _ => best_plane::<BINS>(refs, info),
     }?;
     let area = info.bounds.half_area();
@@ -313,25 +389,35 @@ pub(super) fn choose_split(refs: &[PrimRef], info: &SetInfo) -> Option<Split> {
 /// A_R cost(R); `None` if no plane has primitives on both sides.
 fn best_plane<const N: usize>(refs: &[PrimRef], info: &SetInfo) -> Option<(f32, Split)> {
     let binner = Binner::new(&info.centroids, N);
-    let bins = bin_refs::<N>(&binner, refs);
+    let mut bins = [[Bin::EMPTY; N]; 3];
+    bin_refs::<N>(&binner, refs, info.spheres > 0, &mut bins);
     let extent = info.centroids.hi - info.centroids.lo;
     let mut best: Option<(f32, Split)> = None;
     for (axis, bins) in bins.iter().enumerate() {
         if extent[axis] <= 0.0 {
             continue;
         }
-        // right_cost[i], right_count[i]: bins i.. as one side, swept from the right.
+        // right_cost[i], right_count[i]: bins i.. as one side, swept from the right. Merging
+        // an empty bin changes nothing, so its cost is carried over, not recomputed.
         let (mut right_cost, mut right_count) = ([0.0f32; N], [0u32; N]);
-        let mut right = Bin::EMPTY;
+        let (mut right, mut cost) = (Bin::EMPTY, 0.0);
         for i in (1..N).rev() {
-            right.merge(&bins[i]);
-            right_cost[i] = right.bounds.half_area() * leaf_cost(right.triangles, right.spheres);
+            if !bins[i].is_empty() {
+                right.merge(&bins[i]);
+                cost = right.bounds.half_area() * leaf_cost(right.triangles, right.spheres);
+            }
+            right_cost[i] = cost;
             right_count[i] = right.triangles + right.spheres;
         }
         let mut left = Bin::EMPTY;
         for i in 1..N {
+            // With bin i - 1 empty, plane i divides as plane i - 1 did, at the same cost,
+            // which is not strictly cheaper: only planes above a full bin are priced.
+            if bins[i - 1].is_empty() {
+                continue;
+            }
             left.merge(&bins[i - 1]);
-            if left.triangles + left.spheres == 0 || right_count[i] == 0 {
+            if right_count[i] == 0 {
                 continue;
             }
             let cost =
@@ -349,6 +435,70 @@ fn best_plane<const N: usize>(refs: &[PrimRef], info: &SetInfo) -> Option<(f32, 
     best
 }
 
+/// Sets up to this size are priced by [`best_plane_sorted`] instead of bins.
+const SMALL: usize = 16;
+
+/// The choice of `best_plane::<N>` for a set of at most [`SMALL`] primitives, found without
+/// filling and sweeping `3 N` bins: along each axis the primitives are sorted by their bin
+/// and swept in that order. The plane between bins i - 1 and i only depends on which
+/// primitives lie below it, so of the planes that leave the same primitives on each side,
+/// all priced the same, `best_plane` keeps the first, the one just above the left side's
+/// highest bin; this sweep prices exactly those planes, in the same order, with the same
+/// float operations (boxes are unions by min and max, whose result does not depend on the
+/// order), and keeps the first cheapest as `best_plane` does.
+fn best_plane_sorted<const N: usize>(refs: &[PrimRef], info: &SetInfo) -> Option<(f32, Split)> {
+    let n = refs.len();
+    debug_assert!((2..=SMALL).contains(&n));
+    let binner = Binner::new(&info.centroids, N);
+    let mut bins = [[0usize; 3]; SMALL];
+    for (b, r) in bins.iter_mut().zip(refs) {
+        *b = binner.bins(r);
+    }
+    let extent = info.centroids.hi - info.centroids.lo;
+    let mut best: Option<(f32, Split)> = None;
+    for axis in 0..3 {
+        if extent[axis] <= 0.0 {
+            continue;
+        }
+        // The primitives in the order of their bins along `axis` (insertion sort: n <= 16).
+        let mut order = [0usize; SMALL];
+        for j in 0..n {
+            let mut k = j;
+            while k > 0 && bins[order[k - 1]][axis] > bins[j][axis] {
+                order[k] = order[k - 1];
+                k -= 1;
+            }
+            order[k] = j;
+        }
+        // right_cost[p]: A_R cost(R) of the primitives order[p..] as one side.
+        let mut right_cost = [0.0f32; SMALL];
+        let mut right = Bin::EMPTY;
+        for p in (1..n).rev() {
+            right.add(&refs[order[p]]);
+            right_cost[p] = right.bounds.half_area() * leaf_cost(right.triangles, right.spheres);
+        }
+        let mut left = Bin::EMPTY;
+        for p in 1..n {
+            left.add(&refs[order[p - 1]]);
+            let (below, above) = (bins[order[p - 1]][axis], bins[order[p]][axis]);
+            if below == above {
+                continue;
+            }
+            let cost =
+                left.bounds.half_area() * leaf_cost(left.triangles, left.spheres) + right_cost[p];
+            if best.is_none_or(|(c, _)| cost < c) {
+                let split = Split::Plane {
+                    axis,
+                    bin: below + 1,
+                    bins: N,
+                };
+                best = Some((cost, split));
+            }
+        }
+    }
+    best
+}
+
 /// Divides `refs` as `split` says; returns the left count and both halves' sets.
 pub(super) fn partition(
     refs: &mut [PrimRef],
@@ -357,8 +507,9 @@ pub(super) fn partition(
 ) -> (usize, SetInfo, SetInfo) {
     match *split {
         Split::Plane { axis, bin, bins } => {
-            let binner = Binner::new(&info.centroids, bins);
-            let goes_left = |r: &PrimRef| binner.bins(r)[axis] < bin;
+            let along = Binner::new(&info.centroids, bins).axis(axis);
+            let plane = bin as f32;
+            let goes_left = |r: &PrimRef| Binner::below(r, axis, along, plane);
             // Two-finger partition, deterministic and in place; each primitive is added to
             // its side's set as the fingers pass it.
             let (mut left, mut right) = (SetInfo::EMPTY, SetInfo::EMPTY);
@@ -390,3 +541,6 @@ pub(super) fn partition(
         }
     }
 }
+
+#[cfg(test)]
+mod reference_tests;
