@@ -125,7 +125,7 @@ impl Geometry {
             uv: Vec2::ZERO,
             found: false,
         };
-        self.traverse::<false>(&tr, ray.t_max, |packets, spheres, t_max| {
+        self.traverse(&tr, ray.t_max, |packets, spheres, t_max| {
             for packet in packets {
                 let bound = best.t * WIDEN;
                 packet.intersect(&tr.shear, &tr.packet, bound, |lane, t, b1, b2| {
@@ -148,7 +148,7 @@ impl Geometry {
     pub fn occluded(&self, ray: &Ray) -> bool {
         let tr = TraversalRay::new(ray);
         let bound = ray.t_max * WIDEN;
-        self.traverse::<true>(&tr, ray.t_max, |packets, spheres, _| {
+        self.traverse(&tr, ray.t_max, |packets, spheres, _| {
             let mut blocked = false;
             for packet in packets {
                 packet.intersect(&tr.shear, &tr.packet, bound, |_, t, _, _| {
@@ -176,15 +176,14 @@ impl Geometry {
         &self.sphere_records[leaf.spheres.0 as usize..leaf.spheres.1 as usize]
     }
 
-    /// Stack traversal: nearest child first for the closest hit, in child order for any hit
-    /// (`ANY_HIT`). `leaf(packets, spheres, t_max)` tests the primitives of a leaf, may shrink
-    /// `t_max` (closest hit only), and returns true to stop; so does `traverse`.
+    /// Stack traversal, nearest child first. `leaf(packets, spheres, t_max)` tests the
+    /// primitives of a leaf, may shrink `t_max`, and returns true to stop; so does `traverse`.
     ///
     /// The stack lives on the call stack, uninitialised (a zeroed array would cost a memset
     /// per ray), or on the heap for trees deeper than any seen in practice. The loop exists
     /// once, so the leaf test has one call site and LLVM inlines it into the loop.
     #[inline(always)]
-    fn traverse<const ANY_HIT: bool>(
+    fn traverse(
         &self,
         tr: &TraversalRay,
         t_max: f32,
@@ -201,11 +200,11 @@ impl Geometry {
             on_heap.resize(self.stack_size, MaybeUninit::uninit());
             &mut on_heap[..]
         };
-        self.traverse_with::<ANY_HIT>(tr, t_max, stack, &mut leaf)
+        self.traverse_with(tr, t_max, stack, &mut leaf)
     }
 
     #[inline(always)]
-    fn traverse_with<const ANY_HIT: bool>(
+    fn traverse_with(
         &self,
         tr: &TraversalRay,
         mut t_max: f32,
@@ -235,18 +234,6 @@ impl Geometry {
                     let first = met.trailing_zeros() as usize;
                     met &= met - 1;
                     if met == 0 {
-                        current = node.child[first];
-                        continue;
-                    }
-                    if ANY_HIT {
-                        // Any hit ends the walk, so the order matters little and t_max never
-                        // shrinks: the children are deferred unsorted, and never retested.
-                        while met != 0 {
-                            let i = met.trailing_zeros() as usize;
-                            met &= met - 1;
-                            stack[sp].write((node.child[i], 0.0));
-                            sp += 1;
-                        }
                         current = node.child[first];
                         continue;
                     }
@@ -302,7 +289,7 @@ impl Geometry {
                 sp -= 1;
                 // SAFETY: sp was decremented from a count of written entries.
                 let (child, t_near) = unsafe { stack[sp].assume_init() };
-                if ANY_HIT || t_near <= t_max * SLAB_SCALE {
+                if t_near <= t_max * SLAB_SCALE {
                     current = child;
                     break;
                 }
