@@ -71,6 +71,12 @@ impl TrianglePacket {
         Vec3::new(x[lane], y[lane], z[lane])
     }
 
+    /// The three vertices of lane `lane`'s triangle, exactly as packed.
+    #[inline(always)]
+    pub(crate) fn vertices(&self, lane: usize) -> [Vec3; 3] {
+        [0, 1, 2].map(|vertex| self.vertex(vertex, lane))
+    }
+
     /// Calls `hit(lane, t, b1, b2)` for every lane whose triangle the ray meets at t in
     /// (0, t_max], exactly as [`ShearedRay::intersect`] would answer lane by lane.
     #[inline(always)]

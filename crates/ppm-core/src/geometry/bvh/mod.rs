@@ -39,6 +39,16 @@ use rayon::prelude::*;
 pub use stats::BvhStats;
 use wide::{Leaf, Node, SphereRecord, WideBvh, WIDTH};
 
+/// What a hit on a triangle needs beyond its vertices.
+#[derive(Clone, Copy, Debug)]
+struct TriangleAttributes {
+    /// Unit geometric normal, computed once by the expression a hit would evaluate.
+    ng: Vec3,
+    material: u32,
+    /// Index into `Geometry::shading_normals`, u32::MAX when the mesh has no normals.
+    normals: u32,
+}
+
 /// The scene's geometry and its acceleration structure. Immutable once built.
 pub struct Geometry {
     /// The 8-wide BVH; the root is node 0 (no nodes without primitives).
@@ -46,14 +56,12 @@ pub struct Geometry {
     leaves: Vec<Leaf>,
     packets: Vec<TrianglePacket>,
     sphere_records: Vec<SphereRecord>,
-    /// Triangles, their unit geometric normals, materials and shading-normal slots, by
-    /// global id. The normals are computed once here, by the very expression a hit would
-    /// evaluate, instead of per hit.
+    /// Triangles by global id (`Geometry::triangle`, the brute force; a hit reads its
+    /// vertices from the packet it was found in, already in cache).
     triangles: Vec<Triangle>,
-    tri_geometric_normals: Vec<Vec3>,
-    tri_materials: Vec<u32>,
-    /// Index into `shading_normals` per triangle, u32::MAX when the mesh has no normals.
-    tri_normals: Vec<u32>,
+    /// Geometric normal, material and shading-normal slot by global id: one record, so a
+    /// hit costs one memory access beyond the BVH's.
+    tri_attributes: Vec<TriangleAttributes>,
     shading_normals: Vec<[Vec3; 3]>,
     spheres: Vec<Sphere>,
     skipped: usize,
@@ -71,9 +79,7 @@ impl Geometry {
     /// [`Geometry::duplicate_triangles`]. The build runs on the current rayon thread pool.
     pub fn new(meshes: &[TriangleMesh], spheres: &[Sphere]) -> Self {
         let mut triangles = Vec::new();
-        let mut tri_geometric_normals = Vec::new();
-        let mut tri_materials = Vec::new();
-        let mut tri_normals = Vec::new();
+        let mut tri_attributes = Vec::new();
         let mut shading_normals = Vec::new();
         let mut skipped = 0;
         for mesh in meshes {
@@ -93,14 +99,17 @@ impl Geometry {
                     continue;
                 }
                 triangles.push(tri);
-                tri_geometric_normals.push(n.normalize());
-                tri_materials.push(mesh.materials.get(i).copied().unwrap_or(0));
-                if has_normals {
-                    tri_normals.push(shading_normals.len() as u32);
+                let normals = if has_normals {
                     shading_normals.push(idx.map(|k| mesh.normals[k as usize]));
+                    shading_normals.len() as u32 - 1
                 } else {
-                    tri_normals.push(u32::MAX);
-                }
+                    u32::MAX
+                };
+                tri_attributes.push(TriangleAttributes {
+                    ng: n.normalize(),
+                    material: mesh.materials.get(i).copied().unwrap_or(0),
+                    normals,
+                });
             }
         }
         let duplicate = duplicates::duplicate_mask(&triangles);
@@ -114,11 +123,7 @@ impl Geometry {
             let mut i = 0;
             triangles.retain(|_| keep(&mut i));
             i = 0;
-            tri_geometric_normals.retain(|_| keep(&mut i));
-            i = 0;
-            tri_materials.retain(|_| keep(&mut i));
-            i = 0;
-            tri_normals.retain(|_| keep(&mut i));
+            tri_attributes.retain(|_| keep(&mut i));
         }
         let spheres = spheres.to_vec();
 
@@ -164,9 +169,7 @@ impl Geometry {
             packets: wide.packets,
             sphere_records: wide.spheres,
             triangles,
-            tri_geometric_normals,
-            tri_materials,
-            tri_normals,
+            tri_attributes,
             shading_normals,
             spheres,
             skipped,
@@ -176,54 +179,56 @@ impl Geometry {
         }
     }
 
-    /// Everything the integrators need about the hit on primitive `prim` at distance `t`.
+    /// Everything the integrators need about the hit at distance `t` on triangle `prim`,
+    /// whose vertices are `v` (read from the packet the traversal found it in).
     #[inline(always)]
-    pub(super) fn hit(&self, ray: &Ray, t: f32, prim: u32, uv: Vec2) -> Hit {
-        let n_tri = self.triangles.len() as u32;
-        if prim < n_tri {
-            let i = prim as usize;
-            let [v0, v1, v2] = self.triangles[i].v;
-            // The point from barycentrics in double precision, rounded once: it lies on the
-            // triangle's plane to within half an ulp of its own coordinates, whatever the size
-            // of the triangle, which is what `offset_origin` assumes.
-            let (b1, b2) = (uv.x as f64, uv.y as f64);
-            let p = DVec3::from(v0) * (1.0 - b1 - b2) + DVec3::from(v1) * b1 + DVec3::from(v2) * b2;
-            let ng = self.tri_geometric_normals[i];
-            let ns = match self.tri_normals[i] {
-                u32::MAX => ng,
-                k => {
-                    let [n0, n1, n2] = self.shading_normals[k as usize];
-                    let n = (n0 * (1.0 - uv.x - uv.y) + n1 * uv.x + n2 * uv.y).normalize_or_zero();
-                    if n == Vec3::ZERO {
-                        ng
-                    } else if n.dot(ng) < 0.0 {
-                        -n
-                    } else {
-                        n
-                    }
+    pub(super) fn triangle_hit(&self, t: f32, prim: u32, uv: Vec2, v: [Vec3; 3]) -> Hit {
+        let [v0, v1, v2] = v;
+        // The point from barycentrics in double precision, rounded once: it lies on the
+        // triangle's plane to within half an ulp of its own coordinates, whatever the size
+        // of the triangle, which is what `offset_origin` assumes.
+        let (b1, b2) = (uv.x as f64, uv.y as f64);
+        let p = DVec3::from(v0) * (1.0 - b1 - b2) + DVec3::from(v1) * b1 + DVec3::from(v2) * b2;
+        let attributes = self.tri_attributes[prim as usize];
+        let ng = attributes.ng;
+        let ns = match attributes.normals {
+            u32::MAX => ng,
+            k => {
+                let [n0, n1, n2] = self.shading_normals[k as usize];
+                let n = (n0 * (1.0 - uv.x - uv.y) + n1 * uv.x + n2 * uv.y).normalize_or_zero();
+                if n == Vec3::ZERO {
+                    ng
+                } else if n.dot(ng) < 0.0 {
+                    -n
+                } else {
+                    n
                 }
-            };
-            Hit {
-                t,
-                p: p.as_vec3(),
-                ng,
-                ns,
-                uv,
-                material: self.tri_materials[i],
-                prim,
             }
-        } else {
-            let s = &self.spheres[(prim - n_tri) as usize];
-            let (p, ng) = s.surface(ray.at(t));
-            Hit {
-                t,
-                p,
-                ng,
-                ns: ng,
-                uv,
-                material: s.material,
-                prim,
-            }
+        };
+        Hit {
+            t,
+            p: p.as_vec3(),
+            ng,
+            ns,
+            uv,
+            material: attributes.material,
+            prim,
+        }
+    }
+
+    /// Everything the integrators need about the hit at distance `t` on sphere `prim`.
+    #[inline(always)]
+    pub(super) fn sphere_hit(&self, ray: &Ray, t: f32, prim: u32) -> Hit {
+        let s = &self.spheres[prim as usize - self.triangles.len()];
+        let (p, ng) = s.surface(ray.at(t));
+        Hit {
+            t,
+            p,
+            ng,
+            ns: ng,
+            uv: Vec2::ZERO,
+            material: s.material,
+            prim,
         }
     }
 
@@ -251,9 +256,10 @@ impl Geometry {
             + bytes(self.packets.capacity(), size_of::<TrianglePacket>())
             + bytes(self.sphere_records.capacity(), size_of::<SphereRecord>())
             + bytes(self.triangles.capacity(), size_of::<Triangle>())
-            + bytes(self.tri_geometric_normals.capacity(), size_of::<Vec3>())
-            + bytes(self.tri_materials.capacity(), size_of::<u32>())
-            + bytes(self.tri_normals.capacity(), size_of::<u32>())
+            + bytes(
+                self.tri_attributes.capacity(),
+                size_of::<TriangleAttributes>(),
+            )
             + bytes(self.shading_normals.capacity(), size_of::<[Vec3; 3]>())
             + bytes(self.spheres.capacity(), size_of::<Sphere>())
     }
@@ -268,7 +274,7 @@ impl Geometry {
     pub fn triangle(&self, prim: u32) -> (Triangle, u32) {
         (
             self.triangles[prim as usize],
-            self.tri_materials[prim as usize],
+            self.tri_attributes[prim as usize].material,
         )
     }
 

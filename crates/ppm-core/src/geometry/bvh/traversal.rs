@@ -25,16 +25,29 @@ const SLAB_SCALE: f32 = 1.0 + 2.0 * gamma(3);
 /// distances are resolved the same way everywhere.
 const WIDEN: f32 = 1.0 + 4.0 * f32::EPSILON;
 
-/// The closest candidate found so far: distance, global id and barycentrics.
+/// The closest candidate found so far: distance, global id, barycentrics, and for a
+/// triangle found by the traversal its packet and lane (whose vertices the hit reads).
 #[derive(Clone, Copy)]
-struct Closest {
+struct Closest<'a> {
     t: f32,
     id: u32,
     uv: Vec2,
     found: bool,
+    packet: Option<(&'a TrianglePacket, usize)>,
 }
 
-impl Closest {
+impl<'a> Closest<'a> {
+    /// Nothing found yet within `t_max`.
+    fn new(t_max: f32) -> Self {
+        Closest {
+            t: t_max,
+            id: 0,
+            uv: Vec2::ZERO,
+            found: false,
+            packet: None,
+        }
+    }
+
     /// Nearer, or as near with a smaller id: the same answer in any traversal order.
     #[inline(always)]
     fn improves(&self, t: f32, id: u32) -> bool {
@@ -43,13 +56,14 @@ impl Closest {
 
     /// Keeps the candidate if it improves on the closest so far.
     #[inline(always)]
-    fn offer(&mut self, t: f32, id: u32, uv: Vec2) {
+    fn offer(&mut self, t: f32, id: u32, uv: Vec2, packet: Option<(&'a TrianglePacket, usize)>) {
         if self.improves(t, id) {
             *self = Closest {
                 t,
                 id,
                 uv,
                 found: true,
+                packet,
             };
         }
     }
@@ -121,28 +135,29 @@ impl Geometry {
     #[inline(always)]
     pub fn intersect(&self, ray: &Ray) -> Option<Hit> {
         let tr = TraversalRay::new(ray);
-        let mut best = Closest {
-            t: ray.t_max,
-            id: 0,
-            uv: Vec2::ZERO,
-            found: false,
-        };
+        let mut best = Closest::new(ray.t_max);
         self.traverse(&tr, ray.t_max, |packets, spheres, t_max| {
             for packet in packets {
                 let bound = best.t * WIDEN;
                 packet.intersect(&tr.shear, &tr.packet, bound, |lane, t, b1, b2| {
-                    best.offer(t, packet.id[lane], Vec2::new(b1, b2));
+                    best.offer(t, packet.id[lane], Vec2::new(b1, b2), Some((packet, lane)));
                 });
             }
             for s in spheres {
                 if let Some(t) = tr.sphere(s, best.t) {
-                    best.offer(t, s.id, Vec2::ZERO);
+                    best.offer(t, s.id, Vec2::ZERO, None);
                 }
             }
             *t_max = best.t;
             false
         });
-        best.found.then(|| self.hit(ray, best.t, best.id, best.uv))
+        match (best.found, best.packet) {
+            (false, _) => None,
+            (true, Some((packet, lane))) => {
+                Some(self.triangle_hit(best.t, best.id, best.uv, packet.vertices(lane)))
+            }
+            (true, None) => Some(self.sphere_hit(ray, best.t, best.id)),
+        }
     }
 
     /// True if anything blocks the ray within (0, t_max).
@@ -181,11 +196,11 @@ impl Geometry {
     /// Stack traversal, nearest child first. `leaf(packets, spheres, t_max)` tests the
     /// primitives of a leaf, may shrink `t_max`, and returns true to stop; so does `traverse`.
     #[inline(always)]
-    fn traverse(
-        &self,
+    fn traverse<'g>(
+        &'g self,
         tr: &TraversalRay,
         t_max: f32,
-        mut leaf: impl FnMut(&[TrianglePacket], &[SphereRecord], &mut f32) -> bool,
+        mut leaf: impl FnMut(&'g [TrianglePacket], &'g [SphereRecord], &mut f32) -> bool,
     ) -> bool {
         if self.nodes.is_empty() {
             return false;
@@ -204,12 +219,12 @@ impl Geometry {
     }
 
     #[inline(always)]
-    fn traverse_with(
-        &self,
+    fn traverse_with<'g>(
+        &'g self,
         tr: &TraversalRay,
         mut t_max: f32,
         stack: &mut [(u32, f32)],
-        leaf: &mut impl FnMut(&[TrianglePacket], &[SphereRecord], &mut f32) -> bool,
+        leaf: &mut impl FnMut(&'g [TrianglePacket], &'g [SphereRecord], &mut f32) -> bool,
     ) -> bool {
         // Entries are (child reference, entry distance), the nearest on top.
         let mut sp = 0;
@@ -272,26 +287,25 @@ impl Geometry {
     /// Closest hit by testing every primitive (the reference for tests).
     pub fn intersect_brute_force(&self, ray: &Ray) -> Option<Hit> {
         let tr = TraversalRay::new(ray);
-        let mut best = Closest {
-            t: ray.t_max,
-            id: 0,
-            uv: Vec2::ZERO,
-            found: false,
-        };
+        let mut best = Closest::new(ray.t_max);
         for (id, tri) in self.triangles.iter().enumerate() {
             let [v0, v1, v2] = tri.v;
             let bound = best.t * WIDEN;
             if let Some((t, b1, b2)) = tr.shear.intersect(v0, v1, v2, bound) {
-                best.offer(t, id as u32, Vec2::new(b1, b2));
+                best.offer(t, id as u32, Vec2::new(b1, b2), None);
             }
         }
         for (i, s) in self.spheres.iter().enumerate() {
             let id = self.triangles.len() + i;
             if let Some(t) = tr.sphere(&sphere_record(s, id), best.t) {
-                best.offer(t, id as u32, Vec2::ZERO);
+                best.offer(t, id as u32, Vec2::ZERO, None);
             }
         }
-        best.found.then(|| self.hit(ray, best.t, best.id, best.uv))
+        let triangle = (best.id as usize) < self.triangles.len();
+        best.found.then(|| match triangle {
+            true => self.triangle_hit(best.t, best.id, best.uv, self.triangles[best.id as usize].v),
+            false => self.sphere_hit(ray, best.t, best.id),
+        })
     }
 }
 
