@@ -18,12 +18,27 @@ pub(super) struct SphereRecord {
 /// A child reference with this bit set names a leaf, else a node (the rest is its index).
 pub(super) const LEAF: u32 = 1 << 31;
 
-/// With [`LEAF`]: the leaf is one triangle packet and nothing else, and the rest of the
-/// reference is the packet's index (most leaves of a triangle mesh). The traversal then
-/// reads the packet directly, without first loading a [`Leaf`] record: one dependent load
-/// less per leaf, as Embree encodes its leaves' primitives in the child reference.
+/// With [`LEAF`]: the leaf is a run of one to [`MAX_RUN`] consecutive triangle packets and
+/// nothing else (every leaf of a triangle mesh); bits 28-29 hold the run's length minus one
+/// and bits 0-27 its first packet's index ([`packet_run`]). The traversal then reads the
+/// packets directly, without first loading a [`Leaf`] record: one dependent load less per
+/// leaf, as Embree encodes its leaves' primitives in the child reference.
 /// Without it, the rest is the index of a [`Leaf`] record.
 pub(super) const PACKET: u32 = 1 << 30;
+
+/// Most packets a [`PACKET`] reference names.
+const MAX_RUN: u32 = 4;
+
+/// Bit of a [`PACKET`] reference where the run's length minus one starts.
+const RUN_SHIFT: u32 = 28;
+
+/// The packets a [`PACKET`] reference names: the first one's index and their number.
+#[inline(always)]
+pub(super) fn packet_run(child: u32) -> (usize, usize) {
+    let first = child & ((1 << RUN_SHIFT) - 1);
+    let count = (child >> RUN_SHIFT & (MAX_RUN - 1)) + 1;
+    (first as usize, count as usize)
+}
 
 /// Children per node.
 pub(super) const WIDTH: usize = 8;
@@ -141,9 +156,10 @@ impl WideBvh {
                 .filter(|r| r.sphere != 0)
                 .map(|r| sphere_record(&spheres[r.id as usize - n_tri], r.id as usize)),
         );
-        let one_packet = self.packets.len() as u32 == packets + 1;
-        if first_sphere == self.spheres.len() as u32 && one_packet && packets < PACKET {
-            return LEAF | PACKET | packets;
+        let run = self.packets.len() as u32 - packets;
+        let no_spheres = first_sphere == self.spheres.len() as u32;
+        if no_spheres && (1..=MAX_RUN).contains(&run) && packets < 1 << RUN_SHIFT {
+            return LEAF | PACKET | (run - 1) << RUN_SHIFT | packets;
         }
         self.leaves.push(Leaf {
             packets: (packets, self.packets.len() as u32),
