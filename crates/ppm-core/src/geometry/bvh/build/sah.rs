@@ -116,13 +116,13 @@ impl Aabb {
 #[derive(Clone, Copy, Debug)]
 pub(super) struct SetInfo {
     pub(super) bounds: Aabb,
-    centroids: Aabb,
+    pub(super) centroids: Aabb,
     triangles: u32,
     spheres: u32,
 }
 
 impl SetInfo {
-    const EMPTY: SetInfo = SetInfo {
+    pub(super) const EMPTY: SetInfo = SetInfo {
         bounds: Aabb::EMPTY,
         centroids: Aabb::EMPTY,
         triangles: 0,
@@ -130,14 +130,14 @@ impl SetInfo {
     };
 
     #[inline(always)]
-    fn add(&mut self, r: &PrimRef) {
+    pub(super) fn add(&mut self, r: &PrimRef) {
         self.bounds.grow(&r.bounds());
         self.centroids.grow_point(r.centroid2());
         self.triangles += 1 - r.sphere;
         self.spheres += r.sphere;
     }
 
-    fn merge(mut self, o: &SetInfo) -> SetInfo {
+    pub(super) fn merge(mut self, o: &SetInfo) -> SetInfo {
         self.bounds.grow(&o.bounds);
         self.centroids.grow(&o.centroids);
         self.triangles += o.triangles;
@@ -497,49 +497,6 @@ fn best_plane_sorted<const N: usize>(refs: &[PrimRef], info: &SetInfo) -> Option
         }
     }
     best
-}
-
-/// Divides `refs` as `split` says; returns the left count and both halves' sets.
-pub(super) fn partition(
-    refs: &mut [PrimRef],
-    info: &SetInfo,
-    split: &Split,
-) -> (usize, SetInfo, SetInfo) {
-    match *split {
-        Split::Plane { axis, bin, bins } => {
-            let along = Binner::new(&info.centroids, bins).axis(axis);
-            let plane = bin as f32;
-            let goes_left = |r: &PrimRef| Binner::below(r, axis, along, plane);
-            // Two-finger partition, deterministic and in place; each primitive is added to
-            // its side's set as the fingers pass it.
-            let (mut left, mut right) = (SetInfo::EMPTY, SetInfo::EMPTY);
-            let (mut i, mut j) = (0, refs.len());
-            loop {
-                while i < j && goes_left(&refs[i]) {
-                    left.add(&refs[i]);
-                    i += 1;
-                }
-                while i < j && !goes_left(&refs[j - 1]) {
-                    right.add(&refs[j - 1]);
-                    j -= 1;
-                }
-                if i >= j {
-                    break;
-                }
-                refs.swap(i, j - 1);
-                left.add(&refs[i]);
-                right.add(&refs[j - 1]);
-                i += 1;
-                j -= 1;
-            }
-            (i, left, right)
-        }
-        Split::Halves => {
-            let mid = refs.len() / 2;
-            let (l, r) = refs.split_at(mid);
-            (mid, SetInfo::of(l), SetInfo::of(r))
-        }
-    }
 }
 
 #[cfg(test)]
