@@ -86,7 +86,7 @@ fn build_node(
         let widest = (0..count)
             .filter_map(|i| children[i].split.map(|split| (i, split)))
             .max_by(|(a, _), (b, _)| {
-                let area = |i: usize| children[i].info.bounds.half_area();
+                let area = |i: usize| children[i].info.bounds().half_area();
                 area(*a).total_cmp(&area(*b))
             });
         let Some((i, split)) = widest else { break };
@@ -155,7 +155,7 @@ fn build_node(
                 depth + 1,
             ),
         };
-        node.set_child(i, &c.info.bounds, child);
+        node.set_child(i, c.info.bounds(), child);
     }
     let subtrees: Vec<(usize, Subtree)> = tasks
         .into_par_iter()
@@ -167,7 +167,7 @@ fn build_node(
         .collect();
     for (i, sub) in subtrees {
         let root = out.append(sub, depth);
-        node.set_child(i, &children[i].info.bounds, root);
+        node.set_child(i, children[i].info.bounds(), root);
     }
     out.nodes[slot] = node;
     slot as u32
@@ -203,7 +203,7 @@ pub(super) fn build_tree(bounds: &[Aabb], triangles: usize) -> Tree {
         None => {
             // A single leaf still hangs below a node: traversal starts at a node.
             let mut node = Node::EMPTY;
-            node.set_child(0, &info.bounds, LEAF);
+            node.set_child(0, info.bounds(), LEAF);
             tree.nodes.push(node);
             tree.leaves.push((0, refs.len() as u32));
             tree.depth = 1;

@@ -18,12 +18,12 @@ fn reference_bins(binner: &Binner, r: &PrimRef) -> [usize; 3] {
 
 /// The reference `SetInfo::add`: one branch per primitive kind.
 fn reference_add(info: &mut SetInfo, r: &PrimRef) {
-    info.bounds.grow(&r.bounds());
+    info.prims.bounds.grow(&r.bounds());
     info.centroids.grow_point(r.centroid2());
     if r.sphere != 0 {
-        info.spheres += 1;
+        info.prims.spheres += 1;
     } else {
-        info.triangles += 1;
+        info.prims.triangles += 1;
     }
 }
 
@@ -163,10 +163,10 @@ fn aabb_bits(a: &Aabb) -> [u32; 6] {
 
 fn info_bits(info: &SetInfo) -> ([u32; 6], [u32; 6], u32, u32) {
     (
-        aabb_bits(&info.bounds),
+        aabb_bits(&info.prims.bounds),
         aabb_bits(&info.centroids),
-        info.triangles,
-        info.spheres,
+        info.prims.triangles,
+        info.prims.spheres,
     )
 }
 
