@@ -7,6 +7,7 @@
 //! packet ([`TrianglePacket`]), lane for lane the scalar watertight test.
 //!
 //! - `mod.rs` (this file): the primitive storage ([`Geometry`]) and what a hit returns;
+//! - `triangles.rs`: the triangles kept from the meshes, their normals and materials;
 //! - `duplicates.rs`: finding exact duplicate triangles in linear time;
 //! - `build/`: the binned SAH build of the 8-wide tree;
 //! - `wide.rs`: the layout of the 8-wide nodes and leaves;
@@ -29,6 +30,7 @@ mod build;
 mod duplicates;
 mod stats;
 mod traversal;
+mod triangles;
 mod wide;
 
 use super::triangle_packet::TrianglePacket;
@@ -78,53 +80,29 @@ impl Geometry {
     /// exact duplicates of an earlier triangle are dropped and counted in
     /// [`Geometry::duplicate_triangles`]. The build runs on the current rayon thread pool.
     pub fn new(meshes: &[TriangleMesh], spheres: &[Sphere]) -> Self {
-        let mut triangles = Vec::new();
-        let mut tri_attributes = Vec::new();
-        let mut shading_normals = Vec::new();
-        let mut skipped = 0;
-        for mesh in meshes {
-            let has_normals = mesh.normals.len() == mesh.positions.len();
-            for (i, idx) in mesh.indices.iter().enumerate() {
-                let vertex = |k: usize| mesh.positions.get(idx[k] as usize).copied();
-                let (Some(v0), Some(v1), Some(v2)) = (vertex(0), vertex(1), vertex(2)) else {
-                    skipped += 1;
-                    continue;
-                };
-                let tri = Triangle { v: [v0, v1, v2] };
-                let n = tri.cross();
-                let finite = v0.is_finite() && v1.is_finite() && v2.is_finite();
-                // A zero cross product covers repeated vertices and collinear ones.
-                if !finite || !n.is_finite() || n.length_squared() == 0.0 {
-                    skipped += 1;
-                    continue;
-                }
-                triangles.push(tri);
-                let normals = if has_normals {
-                    shading_normals.push(idx.map(|k| mesh.normals[k as usize]));
-                    shading_normals.len() as u32 - 1
-                } else {
-                    u32::MAX
-                };
-                tri_attributes.push(TriangleAttributes {
-                    ng: n.normalize(),
-                    material: mesh.materials.get(i).copied().unwrap_or(0),
-                    normals,
-                });
-            }
-        }
-        let duplicate = duplicates::duplicate_mask(&triangles);
+        let mut kept = triangles::Kept::gather(meshes);
+        let duplicate = duplicates::duplicate_mask(&kept.triangles);
         let duplicates = duplicate.iter().filter(|&&d| d).count();
         if duplicates > 0 {
-            let keep = |i: &mut usize| {
-                let k = !duplicate[*i];
-                *i += 1;
-                k
-            };
-            let mut i = 0;
-            triangles.retain(|_| keep(&mut i));
-            i = 0;
-            tri_attributes.retain(|_| keep(&mut i));
+            kept.drop(&duplicate);
         }
+        let triangles::Kept {
+            triangles,
+            geometric_normals,
+            materials,
+            normal_slots,
+            shading_normals,
+            skipped,
+        } = kept;
+        // What a hit reads by id, in one record (one memory access per hit).
+        let tri_attributes: Vec<TriangleAttributes> = (geometric_normals, materials, normal_slots)
+            .into_par_iter()
+            .map(|(ng, material, normals)| TriangleAttributes {
+                ng,
+                material,
+                normals,
+            })
+            .collect();
         let spheres = spheres.to_vec();
 
         let mut aabbs: Vec<Aabb> = triangles
@@ -153,10 +131,14 @@ impl Geometry {
                 }
             }
         }));
-        let all = aabbs.iter().fold(Aabb::EMPTY, |mut acc, b| {
-            acc.grow(b);
-            acc
-        });
+        // Min and max: the same box whatever the order of reduction.
+        let all = aabbs.par_iter().copied().reduce(
+            || Aabb::EMPTY,
+            |mut acc, b| {
+                acc.grow(&b);
+                acc
+            },
+        );
         let bounds = if aabbs.is_empty() {
             (Vec3::ZERO, Vec3::ZERO)
         } else {

@@ -4,8 +4,9 @@
 
 use super::super::triangle_packet::TrianglePacket;
 use super::super::{Sphere, Triangle};
-use super::build::{build_tree, Aabb, PrimRef};
+use super::build::{build_tree, Aabb};
 use glam::Vec3;
+use rayon::prelude::*;
 
 /// A sphere in a leaf.
 #[derive(Clone, Copy, Debug)]
@@ -95,7 +96,13 @@ pub(super) struct WideBvh {
 impl WideBvh {
     /// Builds the BVH over `triangles` (ids 0..) and `spheres` (ids after the triangles),
     /// whose boxes are `bounds` in that order.
-    /// The leaves of `build::build_tree`'s tree are packed here, in their order.
+    ///
+    /// The leaves of `build::build_tree`'s tree are packed in their order: each leaf's
+    /// triangles four at a time into packets, in the order of the tree's references, then
+    /// its spheres. A leaf of one to four packets and no sphere is named by its run of
+    /// packets directly ([`PACKET`]); any other gets a [`Leaf`] record. The packets are filled in parallel,
+    /// each at the index a serial prefix sum over the leaves' packet counts gave it, so the
+    /// arrays are those of a serial loop over the leaves on any number of threads.
     pub(super) fn build(bounds: &[Aabb], triangles: &[Triangle], spheres: &[Sphere]) -> Self {
         if bounds.is_empty() {
             return WideBvh::default();
@@ -103,69 +110,79 @@ impl WideBvh {
         let n_tri = triangles.len();
         let mut tree = build_tree(bounds, n_tri);
         let refs = &tree.order;
+        let leaf_refs =
+            |(start, count): (u32, u32)| &refs[start as usize..(start + count) as usize];
+        // Each leaf's packets and spheres.
+        let counts: Vec<(u32, u32)> = tree
+            .leaves
+            .par_iter()
+            .map(|&leaf| {
+                let spheres = leaf_refs(leaf).iter().map(|r| r.sphere).sum::<u32>();
+                ((leaf.1 - spheres).div_ceil(4), spheres)
+            })
+            .collect();
         let mut bvh = WideBvh {
             depth: tree.depth,
             ..WideBvh::default()
         };
-        let references: Vec<u32> = tree
-            .leaves
-            .iter()
-            .map(|&(start, count)| {
-                let leaf = &refs[start as usize..(start + count) as usize];
-                bvh.leaf(leaf, triangles, spheres, n_tri)
-            })
-            .collect();
-        for node in &mut tree.nodes {
+        // The prefix sums, serially (a few operations per leaf): each leaf's child
+        // reference, its records, and for each packet its leaf and its group of four.
+        let mut references = Vec::with_capacity(tree.leaves.len());
+        let mut packet_source: Vec<(u32, u32)> = Vec::new();
+        for (l, (&leaf, &(packets, sphere_count))) in tree.leaves.iter().zip(&counts).enumerate() {
+            let first_packet = packet_source.len() as u32;
+            packet_source.extend((0..packets).map(|group| (l as u32, group)));
+            let first_sphere = bvh.spheres.len() as u32;
+            if sphere_count > 0 {
+                bvh.spheres.extend(
+                    leaf_refs(leaf)
+                        .iter()
+                        .filter(|r| r.sphere != 0)
+                        .map(|r| sphere_record(&spheres[r.id as usize - n_tri], r.id as usize)),
+                );
+            }
+            references.push(
+                if sphere_count == 0
+                    && (1..=MAX_RUN).contains(&packets)
+                    && first_packet < 1 << RUN_SHIFT
+                {
+                    LEAF | PACKET | (packets - 1) << RUN_SHIFT | first_packet
+                } else {
+                    bvh.leaves.push(Leaf {
+                        packets: (first_packet, first_packet + packets),
+                        spheres: (first_sphere, bvh.spheres.len() as u32),
+                    });
+                    LEAF | (bvh.leaves.len() as u32 - 1)
+                },
+            );
+        }
+        // Packet `group` of a leaf: its triangles 4 group .. 4 group + 4 (spheres skipped),
+        // through a fixed array (no allocation).
+        bvh.packets
+            .par_extend(packet_source.par_iter().map(|&(l, group)| {
+                let mut lanes = [([Vec3::ZERO; 3], 0u32); 4];
+                let mut filled = 0;
+                let leaf = leaf_refs(tree.leaves[l as usize]);
+                for r in leaf
+                    .iter()
+                    .filter(|r| r.sphere == 0)
+                    .skip(4 * group as usize)
+                    .take(4)
+                {
+                    lanes[filled] = (triangles[r.id as usize].v, r.id);
+                    filled += 1;
+                }
+                TrianglePacket::new(&lanes[..filled])
+            }));
+        tree.nodes.par_iter_mut().for_each(|node| {
             for i in 0..WIDTH {
                 if node.valid >> i & 1 == 1 && node.child[i] & LEAF != 0 {
                     node.child[i] = references[(node.child[i] & !LEAF) as usize];
                 }
             }
-        }
+        });
         bvh.nodes = tree.nodes;
         bvh
-    }
-
-    /// Packs a leaf's primitives; returns its child reference.
-    fn leaf(
-        &mut self,
-        prims: &[PrimRef],
-        triangles: &[Triangle],
-        spheres: &[Sphere],
-        n_tri: usize,
-    ) -> u32 {
-        let packets = self.packets.len() as u32;
-        // Four triangles at a time into a packet, through a fixed array (no allocation).
-        let mut lanes = [([Vec3::ZERO; 3], 0u32); 4];
-        let mut filled = 0;
-        for r in prims.iter().filter(|r| r.sphere == 0) {
-            lanes[filled] = (triangles[r.id as usize].v, r.id);
-            filled += 1;
-            if filled == 4 {
-                self.packets.push(TrianglePacket::new(&lanes));
-                filled = 0;
-            }
-        }
-        if filled > 0 {
-            self.packets.push(TrianglePacket::new(&lanes[..filled]));
-        }
-        let first_sphere = self.spheres.len() as u32;
-        self.spheres.extend(
-            prims
-                .iter()
-                .filter(|r| r.sphere != 0)
-                .map(|r| sphere_record(&spheres[r.id as usize - n_tri], r.id as usize)),
-        );
-        let run = self.packets.len() as u32 - packets;
-        let no_spheres = first_sphere == self.spheres.len() as u32;
-        if no_spheres && (1..=MAX_RUN).contains(&run) && packets < 1 << RUN_SHIFT {
-            return LEAF | PACKET | (run - 1) << RUN_SHIFT | packets;
-        }
-        self.leaves.push(Leaf {
-            packets: (packets, self.packets.len() as u32),
-            spheres: (first_sphere, self.spheres.len() as u32),
-        });
-        LEAF | (self.leaves.len() as u32 - 1)
     }
 }
 

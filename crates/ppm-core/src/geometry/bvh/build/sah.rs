@@ -112,46 +112,44 @@ impl Aabb {
     }
 }
 
-/// A set of primitives: its box, its centroids' box (of twice the centroids) and counts.
+/// A set of primitives: its box and counts (a [`Bin`]'s, added and merged as a bin's) and
+/// its centroids' box (of twice the centroids), which a bin does not need.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct SetInfo {
-    pub(super) bounds: Aabb,
-    centroids: Aabb,
-    triangles: u32,
-    spheres: u32,
+    prims: Bin,
+    pub(super) centroids: Aabb,
 }
 
 impl SetInfo {
-    const EMPTY: SetInfo = SetInfo {
-        bounds: Aabb::EMPTY,
+    pub(super) const EMPTY: SetInfo = SetInfo {
+        prims: Bin::EMPTY,
         centroids: Aabb::EMPTY,
-        triangles: 0,
-        spheres: 0,
     };
 
     #[inline(always)]
-    fn add(&mut self, r: &PrimRef) {
-        self.bounds.grow(&r.bounds());
+    pub(super) fn add(&mut self, r: &PrimRef) {
+        self.prims.add(r);
         self.centroids.grow_point(r.centroid2());
-        self.triangles += 1 - r.sphere;
-        self.spheres += r.sphere;
     }
 
-    fn merge(mut self, o: &SetInfo) -> SetInfo {
-        self.bounds.grow(&o.bounds);
+    pub(super) fn merge(mut self, o: &SetInfo) -> SetInfo {
+        self.prims.merge(&o.prims);
         self.centroids.grow(&o.centroids);
-        self.triangles += o.triangles;
-        self.spheres += o.spheres;
         self
     }
 
+    /// The box of the set's primitives.
+    pub(super) fn bounds(&self) -> &Aabb {
+        &self.prims.bounds
+    }
+
     pub(super) fn count(&self) -> usize {
-        (self.triangles + self.spheres) as usize
+        (self.prims.triangles + self.prims.spheres) as usize
     }
 
     /// The SAH cost of testing this set as one leaf.
     fn leaf_cost(&self) -> f32 {
-        leaf_cost(self.triangles, self.spheres)
+        leaf_cost(self.prims.triangles, self.prims.spheres)
     }
 
     /// Over a slice of references, in parallel chunks for large slices (min, max and counts
@@ -254,7 +252,8 @@ impl Binner {
     }
 }
 
-/// What the SAH needs of a bin: the box of its primitives and their counts.
+/// What the SAH needs of a bin (and of a set, in [`SetInfo`]): the box of its primitives
+/// and their counts.
 #[derive(Clone, Copy, Debug)]
 struct Bin {
     bounds: Aabb,
@@ -377,7 +376,7 @@ pub(super) fn choose_split(refs: &[PrimRef], info: &SetInfo) -> Option<Split> {
         9..=SMALL => best_plane_sorted::<16>(refs, info),
         _ => best_plane::<BINS>(refs, info),
     }?;
-    let area = info.bounds.half_area();
+    let area = info.bounds().half_area();
     let split_cost = C_TRAVERSE + if area > 0.0 { cost / area } else { 0.0 };
     if n <= MAX_LEAF && split_cost >= info.leaf_cost() {
         return None;
@@ -390,7 +389,7 @@ pub(super) fn choose_split(refs: &[PrimRef], info: &SetInfo) -> Option<Split> {
 fn best_plane<const N: usize>(refs: &[PrimRef], info: &SetInfo) -> Option<(f32, Split)> {
     let binner = Binner::new(&info.centroids, N);
     let mut bins = [[Bin::EMPTY; N]; 3];
-    bin_refs::<N>(&binner, refs, info.spheres > 0, &mut bins);
+    bin_refs::<N>(&binner, refs, info.prims.spheres > 0, &mut bins);
     let extent = info.centroids.hi - info.centroids.lo;
     let mut best: Option<(f32, Split)> = None;
     for (axis, bins) in bins.iter().enumerate() {
@@ -497,49 +496,6 @@ fn best_plane_sorted<const N: usize>(refs: &[PrimRef], info: &SetInfo) -> Option
         }
     }
     best
-}
-
-/// Divides `refs` as `split` says; returns the left count and both halves' sets.
-pub(super) fn partition(
-    refs: &mut [PrimRef],
-    info: &SetInfo,
-    split: &Split,
-) -> (usize, SetInfo, SetInfo) {
-    match *split {
-        Split::Plane { axis, bin, bins } => {
-            let along = Binner::new(&info.centroids, bins).axis(axis);
-            let plane = bin as f32;
-            let goes_left = |r: &PrimRef| Binner::below(r, axis, along, plane);
-            // Two-finger partition, deterministic and in place; each primitive is added to
-            // its side's set as the fingers pass it.
-            let (mut left, mut right) = (SetInfo::EMPTY, SetInfo::EMPTY);
-            let (mut i, mut j) = (0, refs.len());
-            loop {
-                while i < j && goes_left(&refs[i]) {
-                    left.add(&refs[i]);
-                    i += 1;
-                }
-                while i < j && !goes_left(&refs[j - 1]) {
-                    right.add(&refs[j - 1]);
-                    j -= 1;
-                }
-                if i >= j {
-                    break;
-                }
-                refs.swap(i, j - 1);
-                left.add(&refs[i]);
-                right.add(&refs[j - 1]);
-                i += 1;
-                j -= 1;
-            }
-            (i, left, right)
-        }
-        Split::Halves => {
-            let mid = refs.len() / 2;
-            let (l, r) = refs.split_at(mid);
-            (mid, SetInfo::of(l), SetInfo::of(r))
-        }
-    }
 }
 
 #[cfg(test)]

@@ -3,6 +3,7 @@
 //! random sets with coincident centroids, flat axes, equal costs and spheres, and on
 //! non-finite positions: the tree must stay the same, node for node.
 
+use super::super::partition::partition;
 use super::*;
 use crate::sampling::Rng;
 
@@ -17,12 +18,12 @@ fn reference_bins(binner: &Binner, r: &PrimRef) -> [usize; 3] {
 
 /// The reference `SetInfo::add`: one branch per primitive kind.
 fn reference_add(info: &mut SetInfo, r: &PrimRef) {
-    info.bounds.grow(&r.bounds());
+    info.prims.bounds.grow(&r.bounds());
     info.centroids.grow_point(r.centroid2());
     if r.sphere != 0 {
-        info.spheres += 1;
+        info.prims.spheres += 1;
     } else {
-        info.triangles += 1;
+        info.prims.triangles += 1;
     }
 }
 
@@ -162,10 +163,10 @@ fn aabb_bits(a: &Aabb) -> [u32; 6] {
 
 fn info_bits(info: &SetInfo) -> ([u32; 6], [u32; 6], u32, u32) {
     (
-        aabb_bits(&info.bounds),
+        aabb_bits(&info.prims.bounds),
         aabb_bits(&info.centroids),
-        info.triangles,
-        info.spheres,
+        info.prims.triangles,
+        info.prims.spheres,
     )
 }
 
@@ -257,7 +258,8 @@ fn partition_agrees_with_the_reference() {
                 for bin in 1..bins {
                     let split = Split::Plane { axis, bin, bins };
                     let (mut ours, mut theirs) = (refs.clone(), refs.clone());
-                    let (mid, left, right) = partition(&mut ours, &info, &split);
+                    let mut scratch = refs.clone();
+                    let (mid, left, right) = partition(&mut ours, &mut scratch, &info, &split);
                     let (ref_mid, ref_left, ref_right) =
                         reference_partition(&mut theirs, &info, &split);
                     assert_eq!(mid, ref_mid, "{split:?}");
