@@ -2,7 +2,7 @@
 //! cost, in the terms Embree's verbose build statistics use, so two trees over the same
 //! triangles can be compared without tracing a ray.
 
-use super::wide::{packet_run, Node, LEAF, PACKET, WIDTH};
+use super::wide::{Node, LEAF, PACKET, WIDTH};
 use super::Geometry;
 
 /// Counts and SAH cost of a built BVH ([`Geometry::bvh_stats`]).
@@ -67,7 +67,7 @@ impl Geometry {
                 }
                 stats.leaves += 1;
                 let (packets, spheres) = if child & PACKET != 0 {
-                    (packet_run(child).1 as u32, 0)
+                    (1, 0)
                 } else {
                     let leaf = &self.leaves[(child & !LEAF) as usize];
                     (

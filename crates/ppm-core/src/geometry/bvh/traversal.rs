@@ -1,7 +1,7 @@
 //! Traversal of the 8-wide BVH: the robust slab test of a node's eight boxes at once, and a
 //! stack walk nearest child first, for closest-hit and any-hit queries.
 
-use super::wide::{packet_run, sphere_record, Leaf, Node, SphereRecord, LEAF, PACKET, WIDTH};
+use super::wide::{sphere_record, Leaf, Node, SphereRecord, LEAF, PACKET, WIDTH};
 use super::Geometry;
 use crate::geometry::sphere::intersect_sphere;
 use crate::geometry::triangle::{gamma, ShearedRay};
@@ -232,8 +232,8 @@ impl Geometry {
         loop {
             if current & LEAF != 0 {
                 let (packets, spheres) = if current & PACKET != 0 {
-                    let (first, count) = packet_run(current);
-                    (&self.packets[first..first + count], &[][..])
+                    let i = (current & !(LEAF | PACKET)) as usize;
+                    (std::slice::from_ref(&self.packets[i]), &[][..])
                 } else {
                     let record = &self.leaves[(current & !LEAF) as usize];
                     (self.leaf_packets(record), self.leaf_spheres(record))
@@ -353,51 +353,6 @@ mod tests {
             }
             assert!(hits > 200, "too few hits to test anything: {hits}");
         }
-    }
-
-    /// A leaf of two packets is named by one reference (a run of two, no leaf record), and
-    /// the traversal tests both: eight overlapping triangles, which the SAH keeps as one
-    /// leaf, answer like the brute force, with hits in both packets.
-    #[test]
-    fn a_run_of_packets_is_tested_whole() {
-        let mut positions = Vec::new();
-        for k in 0..8 {
-            let a = k as f32 * 0.7;
-            let (u, v) = (
-                Vec3::new(a.cos(), a.sin(), 0.0),
-                Vec3::new(0.0, 0.0, 1.0 + a),
-            );
-            positions.extend([u, v - u, -v]);
-        }
-        let indices = (0..8).map(|i| [3 * i, 3 * i + 1, 3 * i + 2]).collect();
-        let geometry = Geometry::new(&[TriangleMesh::new(positions, indices, 0)], &[]);
-        assert_eq!(geometry.nodes.len(), 1);
-        let root = geometry.nodes[0].child[0];
-        assert!(root & LEAF != 0 && root & PACKET != 0, "{root:#x}");
-        assert_eq!(packet_run(root), (0, 2));
-        let mut rng = Rng::new(5, 0, 0);
-        let mut point =
-            || (Vec3::new(rng.uniform(), rng.uniform(), rng.uniform()) * 2.0 - 1.0) * 3.0;
-        let mut hit_ids = [0u32; 8];
-        for _ in 0..4000 {
-            let origin = point();
-            let ray = Ray::new(origin, (point() * 0.3 - origin).normalize());
-            let want = geometry.intersect_brute_force(&ray);
-            let got = geometry.intersect(&ray);
-            assert_eq!(
-                got.map(|h| (h.t.to_bits(), h.prim)),
-                want.map(|h| (h.t.to_bits(), h.prim))
-            );
-            assert_eq!(geometry.occluded(&ray), want.is_some());
-            if let Some(h) = got {
-                hit_ids[h.prim as usize] += 1;
-            }
-        }
-        let second_packet: Vec<u32> = geometry.packets[1].id.to_vec();
-        assert!(
-            second_packet.iter().any(|&id| hit_ids[id as usize] > 0),
-            "no hit in the second packet: {hit_ids:?}"
-        );
     }
 
     /// The slab test of one child box in scalar code, with the vector's min/max semantics

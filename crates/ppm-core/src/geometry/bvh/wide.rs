@@ -19,27 +19,12 @@ pub(super) struct SphereRecord {
 /// A child reference with this bit set names a leaf, else a node (the rest is its index).
 pub(super) const LEAF: u32 = 1 << 31;
 
-/// With [`LEAF`]: the leaf is a run of one to [`MAX_RUN`] consecutive triangle packets and
-/// nothing else (every leaf of a triangle mesh); bits 28-29 hold the run's length minus one
-/// and bits 0-27 its first packet's index ([`packet_run`]). The traversal then reads the
-/// packets directly, without first loading a [`Leaf`] record: one dependent load less per
-/// leaf, as Embree encodes its leaves' primitives in the child reference.
+/// With [`LEAF`]: the leaf is one triangle packet and nothing else, and the rest of the
+/// reference is the packet's index (most leaves of a triangle mesh). The traversal then
+/// reads the packet directly, without first loading a [`Leaf`] record: one dependent load
+/// less per leaf, as Embree encodes its leaves' primitives in the child reference.
 /// Without it, the rest is the index of a [`Leaf`] record.
 pub(super) const PACKET: u32 = 1 << 30;
-
-/// Most packets a [`PACKET`] reference names.
-const MAX_RUN: u32 = 4;
-
-/// Bit of a [`PACKET`] reference where the run's length minus one starts.
-const RUN_SHIFT: u32 = 28;
-
-/// The packets a [`PACKET`] reference names: the first one's index and their number.
-#[inline(always)]
-pub(super) fn packet_run(child: u32) -> (usize, usize) {
-    let first = child & ((1 << RUN_SHIFT) - 1);
-    let count = (child >> RUN_SHIFT & (MAX_RUN - 1)) + 1;
-    (first as usize, count as usize)
-}
 
 /// Children per node.
 pub(super) const WIDTH: usize = 8;
@@ -99,8 +84,8 @@ impl WideBvh {
     ///
     /// The leaves of `build::build_tree`'s tree are packed in their order: each leaf's
     /// triangles four at a time into packets, in the order of the tree's references, then
-    /// its spheres. A leaf of one to four packets and no sphere is named by its run of
-    /// packets directly ([`PACKET`]); any other gets a [`Leaf`] record. The packets are filled in parallel,
+    /// its spheres. A leaf of one packet and no sphere is named by its packet directly
+    /// ([`PACKET`]); any other gets a [`Leaf`] record. The packets are filled in parallel,
     /// each at the index a serial prefix sum over the leaves' packet counts gave it, so the
     /// arrays are those of a serial loop over the leaves on any number of threads.
     pub(super) fn build(bounds: &[Aabb], triangles: &[Triangle], spheres: &[Sphere]) -> Self {
@@ -142,11 +127,8 @@ impl WideBvh {
                 );
             }
             references.push(
-                if sphere_count == 0
-                    && (1..=MAX_RUN).contains(&packets)
-                    && first_packet < 1 << RUN_SHIFT
-                {
-                    LEAF | PACKET | (packets - 1) << RUN_SHIFT | first_packet
+                if sphere_count == 0 && packets == 1 && first_packet < PACKET {
+                    LEAF | PACKET | first_packet
                 } else {
                     bvh.leaves.push(Leaf {
                         packets: (first_packet, first_packet + packets),
