@@ -7,13 +7,11 @@
 //! on the current rayon pool, each into a subtree of its own, appended in child order: the
 //! tree, its memory layout and so every answer are the same on any number of threads.
 
-mod partition;
 mod sah;
 
-use partition::partition;
 #[cfg(test)]
 use sah::MAX_LEAF;
-use sah::{choose_split, SetInfo, Split, PARALLEL_MIN};
+use sah::{choose_split, partition, SetInfo, Split, PARALLEL_MIN};
 pub(super) use sah::{Aabb, PrimRef};
 
 use super::wide::{Node, LEAF, WIDTH};
@@ -63,10 +61,8 @@ impl Subtree {
 
 /// Builds the node over `refs` (which starts at `offset` in the whole array) into `out`,
 /// whose set is `info` and which the SAH splits by `split`; returns the node's index.
-/// `scratch` is as long as `refs`, for the partition.
 fn build_node(
     refs: &mut [PrimRef],
-    scratch: &mut [PrimRef],
     offset: usize,
     info: SetInfo,
     split: Split,
@@ -92,7 +88,7 @@ fn build_node(
         let Some((i, split)) = widest else { break };
         let c = children[i];
         let slice = &mut refs[c.start..c.end];
-        let (mid, left, right) = partition(slice, &mut scratch[c.start..c.end], &c.info, &split);
+        let (mid, left, right) = partition(slice, &c.info, &split);
         let (l, r) = slice.split_at(mid);
         let (left_split, right_split) = if slice.len() >= 2 * PARALLEL_MIN {
             rayon::join(|| choose_split(l, &left), || choose_split(r, &right))
@@ -118,22 +114,12 @@ fn build_node(
     out.nodes.push(Node::EMPTY);
     let mut node = Node::EMPTY;
     // Children small enough are built here, the others as tasks into subtrees of their own.
-    type Task<'a> = (
-        usize,
-        &'a mut [PrimRef],
-        &'a mut [PrimRef],
-        usize,
-        SetInfo,
-        Split,
-    );
-    let mut tasks: Vec<Task> = Vec::new();
-    let (mut rest, mut scratch_rest) = (refs, scratch);
+    let mut tasks: Vec<(usize, &mut [PrimRef], usize, SetInfo, Split)> = Vec::new();
+    let mut rest = refs;
     let mut consumed = 0;
     for (i, c) in children[..count].iter().enumerate() {
         let (slice, tail) = std::mem::take(&mut rest).split_at_mut(c.end - consumed);
         rest = tail;
-        let (scratch, tail) = std::mem::take(&mut scratch_rest).split_at_mut(c.end - consumed);
-        scratch_rest = tail;
         consumed = c.end;
         let child = match c.split {
             None => {
@@ -142,26 +128,18 @@ fn build_node(
                 LEAF | (out.leaves.len() as u32 - 1)
             }
             Some(split) if slice.len() >= PARALLEL_MIN => {
-                tasks.push((i, slice, scratch, offset + c.start, c.info, split));
+                tasks.push((i, slice, offset + c.start, c.info, split));
                 continue;
             }
-            Some(split) => build_node(
-                slice,
-                scratch,
-                offset + c.start,
-                c.info,
-                split,
-                out,
-                depth + 1,
-            ),
+            Some(split) => build_node(slice, offset + c.start, c.info, split, out, depth + 1),
         };
         node.set_child(i, c.info.bounds(), child);
     }
     let subtrees: Vec<(usize, Subtree)> = tasks
         .into_par_iter()
-        .map(|(i, slice, scratch, start, info, split)| {
+        .map(|(i, slice, start, info, split)| {
             let mut sub = Subtree::default();
-            build_node(slice, scratch, start, info, split, &mut sub, 1);
+            build_node(slice, start, info, split, &mut sub, 1);
             (i, sub)
         })
         .collect();
@@ -195,10 +173,7 @@ pub(super) fn build_tree(bounds: &[Aabb], triangles: usize) -> Tree {
     let mut tree = Subtree::default();
     match choose_split(&refs, &info) {
         Some(split) => {
-            // The partition's scratch: one more reference per primitive during the build,
-            // written in parallel (its pages are touched by all threads).
-            let mut scratch: Vec<PrimRef> = refs.par_iter().copied().collect();
-            build_node(&mut refs, &mut scratch, 0, info, split, &mut tree, 1);
+            build_node(&mut refs, 0, info, split, &mut tree, 1);
         }
         None => {
             // A single leaf still hangs below a node: traversal starts at a node.

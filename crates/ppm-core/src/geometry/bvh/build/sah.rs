@@ -498,5 +498,48 @@ fn best_plane_sorted<const N: usize>(refs: &[PrimRef], info: &SetInfo) -> Option
     best
 }
 
+/// Divides `refs` as `split` says; returns the left count and both halves' sets.
+pub(super) fn partition(
+    refs: &mut [PrimRef],
+    info: &SetInfo,
+    split: &Split,
+) -> (usize, SetInfo, SetInfo) {
+    match *split {
+        Split::Plane { axis, bin, bins } => {
+            let along = Binner::new(&info.centroids, bins).axis(axis);
+            let plane = bin as f32;
+            let goes_left = |r: &PrimRef| Binner::below(r, axis, along, plane);
+            // Two-finger partition, deterministic and in place; each primitive is added to
+            // its side's set as the fingers pass it.
+            let (mut left, mut right) = (SetInfo::EMPTY, SetInfo::EMPTY);
+            let (mut i, mut j) = (0, refs.len());
+            loop {
+                while i < j && goes_left(&refs[i]) {
+                    left.add(&refs[i]);
+                    i += 1;
+                }
+                while i < j && !goes_left(&refs[j - 1]) {
+                    right.add(&refs[j - 1]);
+                    j -= 1;
+                }
+                if i >= j {
+                    break;
+                }
+                refs.swap(i, j - 1);
+                left.add(&refs[i]);
+                right.add(&refs[j - 1]);
+                i += 1;
+                j -= 1;
+            }
+            (i, left, right)
+        }
+        Split::Halves => {
+            let mid = refs.len() / 2;
+            let (l, r) = refs.split_at(mid);
+            (mid, SetInfo::of(l), SetInfo::of(r))
+        }
+    }
+}
+
 #[cfg(test)]
 mod reference_tests;

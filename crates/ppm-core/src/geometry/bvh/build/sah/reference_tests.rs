@@ -3,7 +3,6 @@
 //! random sets with coincident centroids, flat axes, equal costs and spheres, and on
 //! non-finite positions: the tree must stay the same, node for node.
 
-use super::super::partition::partition;
 use super::*;
 use crate::sampling::Rng;
 
@@ -258,8 +257,7 @@ fn partition_agrees_with_the_reference() {
                 for bin in 1..bins {
                     let split = Split::Plane { axis, bin, bins };
                     let (mut ours, mut theirs) = (refs.clone(), refs.clone());
-                    let mut scratch = refs.clone();
-                    let (mid, left, right) = partition(&mut ours, &mut scratch, &info, &split);
+                    let (mid, left, right) = partition(&mut ours, &info, &split);
                     let (ref_mid, ref_left, ref_right) =
                         reference_partition(&mut theirs, &info, &split);
                     assert_eq!(mid, ref_mid, "{split:?}");
