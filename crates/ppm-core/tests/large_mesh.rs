@@ -55,6 +55,43 @@ fn closest_hit_equals_brute_force_on_a_large_mesh() {
     assert!(hits > 100, "too few hits to test anything: {hits}");
 }
 
+/// The whole hit equals the brute force's, bit for bit: point, geometric and shading normal,
+/// barycentrics and material, which the traversal reads from the packet it found the
+/// triangle in and from one per-triangle record, and the brute force from the triangle
+/// array. The mesh gets a material per face and vertex normals so that each field is
+/// exercised.
+#[test]
+fn the_whole_hit_equals_the_brute_force_hit() {
+    let mut mesh = bumpy_sphere();
+    mesh.materials = (0..mesh.indices.len() as u32).map(|i| i % 7).collect();
+    mesh.normals = mesh
+        .positions
+        .iter()
+        .map(|p| (*p - CENTER).normalize())
+        .collect();
+    let geometry = Geometry::new(&[mesh], &[]);
+    let bits = |v: Vec3| v.to_array().map(f32::to_bits);
+    let mut hits = 0;
+    for (i, ray) in random_rays(11, 800).iter().enumerate() {
+        let whole = |h: ppm_core::geometry::Hit| {
+            (
+                h.t.to_bits(),
+                bits(h.p),
+                bits(h.ng),
+                bits(h.ns),
+                h.uv.to_array().map(f32::to_bits),
+                h.material,
+                h.prim,
+            )
+        };
+        let want = geometry.intersect_brute_force(ray).map(whole);
+        let got = geometry.intersect(ray).map(whole);
+        assert_eq!(got, want, "ray {i}: {ray:?}");
+        hits += got.is_some() as usize;
+    }
+    assert!(hits > 100, "too few hits to test anything: {hits}");
+}
+
 /// `occluded` is true exactly when `intersect` finds a hit, for unbounded rays and for rays
 /// cut just before and just after their closest hit.
 #[test]
