@@ -71,6 +71,11 @@ impl TrianglePacket {
         Vec3::new(x[lane], y[lane], z[lane])
     }
 
+    /// Number of lanes in use (they are the first ones).
+    pub(crate) fn count(&self) -> usize {
+        self.lanes.count_ones() as usize
+    }
+
     /// The three vertices of lane `lane`'s triangle, exactly as packed.
     #[inline(always)]
     pub(crate) fn vertices(&self, lane: usize) -> [Vec3; 3] {

@@ -58,9 +58,10 @@ pub struct Geometry {
     leaves: Vec<Leaf>,
     packets: Vec<TrianglePacket>,
     sphere_records: Vec<SphereRecord>,
-    /// Triangles by global id (`Geometry::triangle`, the brute force; a hit reads its
-    /// vertices from the packet it was found in, already in cache).
-    triangles: Vec<Triangle>,
+    /// Where each triangle (by global id) is packed: packet index * 4 + lane. Its vertices
+    /// are kept only there (`Geometry::triangle`, the brute force; a hit reads them from the
+    /// packet the traversal found it in, already in cache).
+    packed_at: Vec<u32>,
     /// Geometric normal, material and shading-normal slot by global id: one record, so a
     /// hit costs one memory access beyond the BVH's.
     tri_attributes: Vec<TriangleAttributes>,
@@ -145,12 +146,22 @@ impl Geometry {
             (all.lo.into(), all.hi.into())
         };
         let wide = WideBvh::build(&aabbs, &triangles, &spheres);
+        // Every triangle is in exactly one packet lane (the leaves partition the ids).
+        let mut packed_at = vec![u32::MAX; triangles.len()];
+        for (p, packet) in wide.packets.iter().enumerate() {
+            for lane in 0..packet.count() {
+                let at = u32::try_from(4 * p + lane).expect("fewer than 2^30 triangle packets");
+                packed_at[packet.id[lane] as usize] = at;
+            }
+        }
+        debug_assert!(packed_at.iter().all(|&at| at != u32::MAX));
+        drop(triangles);
         Geometry {
             nodes: wide.nodes,
             leaves: wide.leaves,
             packets: wide.packets,
             sphere_records: wide.spheres,
-            triangles,
+            packed_at,
             tri_attributes,
             shading_normals,
             spheres,
@@ -201,7 +212,7 @@ impl Geometry {
     /// Everything the integrators need about the hit at distance `t` on sphere `prim`.
     #[inline(always)]
     pub(super) fn sphere_hit(&self, ray: &Ray, t: f32, prim: u32) -> Hit {
-        let s = &self.spheres[prim as usize - self.triangles.len()];
+        let s = &self.spheres[prim as usize - self.packed_at.len()];
         let (p, ng) = s.surface(ray.at(t));
         Hit {
             t,
@@ -216,7 +227,7 @@ impl Geometry {
 
     /// Number of triangles kept.
     pub fn triangle_count(&self) -> usize {
-        self.triangles.len()
+        self.packed_at.len()
     }
 
     /// Number of spheres.
@@ -230,14 +241,14 @@ impl Geometry {
     }
 
     /// Bytes held by the geometry and its BVH (nodes, leaves, triangle packets, and the
-    /// per-triangle vertices, normals, materials and shading-normal slots), by capacity.
+    /// per-triangle packet lanes, normals, materials and shading-normal slots), by capacity.
     pub fn memory_bytes(&self) -> usize {
         let bytes = |len: usize, one: usize| len * one;
         bytes(self.nodes.capacity(), size_of::<Node>())
             + bytes(self.leaves.capacity(), size_of::<Leaf>())
             + bytes(self.packets.capacity(), size_of::<TrianglePacket>())
             + bytes(self.sphere_records.capacity(), size_of::<SphereRecord>())
-            + bytes(self.triangles.capacity(), size_of::<Triangle>())
+            + bytes(self.packed_at.capacity(), size_of::<u32>())
             + bytes(
                 self.tri_attributes.capacity(),
                 size_of::<TriangleAttributes>(),
@@ -254,15 +265,19 @@ impl Geometry {
 
     /// The triangle with global id `prim` (< triangle_count) and its material.
     pub fn triangle(&self, prim: u32) -> (Triangle, u32) {
-        (
-            self.triangles[prim as usize],
-            self.tri_attributes[prim as usize].material,
-        )
+        let v = self.packed_vertices(prim);
+        (Triangle { v }, self.tri_attributes[prim as usize].material)
+    }
+
+    /// The vertices of triangle `prim` (< triangle_count), from its packet lane.
+    pub(super) fn packed_vertices(&self, prim: u32) -> [Vec3; 3] {
+        let at = self.packed_at[prim as usize] as usize;
+        self.packets[at / 4].vertices(at % 4)
     }
 
     /// The sphere with global id `prim` (>= triangle_count).
     pub fn sphere(&self, prim: u32) -> &Sphere {
-        &self.spheres[prim as usize - self.triangles.len()]
+        &self.spheres[prim as usize - self.packed_at.len()]
     }
 
     /// World-space bounds (min, max) of all primitives.

@@ -288,22 +288,26 @@ impl Geometry {
     pub fn intersect_brute_force(&self, ray: &Ray) -> Option<Hit> {
         let tr = TraversalRay::new(ray);
         let mut best = Closest::new(ray.t_max);
-        for (id, tri) in self.triangles.iter().enumerate() {
-            let [v0, v1, v2] = tri.v;
+        let n_tri = self.triangle_count();
+        for id in 0..n_tri {
+            let [v0, v1, v2] = self.packed_vertices(id as u32);
             let bound = best.t * WIDEN;
             if let Some((t, b1, b2)) = tr.shear.intersect(v0, v1, v2, bound) {
                 best.offer(t, id as u32, Vec2::new(b1, b2), None);
             }
         }
         for (i, s) in self.spheres.iter().enumerate() {
-            let id = self.triangles.len() + i;
+            let id = n_tri + i;
             if let Some(t) = tr.sphere(&sphere_record(s, id), best.t) {
                 best.offer(t, id as u32, Vec2::ZERO, None);
             }
         }
-        let triangle = (best.id as usize) < self.triangles.len();
+        let triangle = (best.id as usize) < n_tri;
         best.found.then(|| match triangle {
-            true => self.triangle_hit(best.t, best.id, best.uv, self.triangles[best.id as usize].v),
+            true => {
+                let v = self.packed_vertices(best.id);
+                self.triangle_hit(best.t, best.id, best.uv, v)
+            }
             false => self.sphere_hit(ray, best.t, best.id),
         })
     }
