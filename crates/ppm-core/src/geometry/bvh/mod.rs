@@ -39,17 +39,8 @@ use build::Aabb;
 use glam::{DVec3, Vec2, Vec3, Vec3A};
 use rayon::prelude::*;
 pub use stats::BvhStats;
+use triangles::TriangleAttributes;
 use wide::{Leaf, Node, SphereRecord, WideBvh, WIDTH};
-
-/// What a hit on a triangle needs beyond its vertices.
-#[derive(Clone, Copy, Debug)]
-struct TriangleAttributes {
-    /// Unit geometric normal, computed once by the expression a hit would evaluate.
-    ng: Vec3,
-    material: u32,
-    /// Index into `Geometry::shading_normals`, u32::MAX when the mesh has no normals.
-    normals: u32,
-}
 
 /// The scene's geometry and its acceleration structure. Immutable once built.
 pub struct Geometry {
@@ -89,21 +80,10 @@ impl Geometry {
         }
         let triangles::Kept {
             triangles,
-            geometric_normals,
-            materials,
-            normal_slots,
+            attributes: tri_attributes,
             shading_normals,
             skipped,
         } = kept;
-        // What a hit reads by id, in one record (one memory access per hit).
-        let tri_attributes: Vec<TriangleAttributes> = (geometric_normals, materials, normal_slots)
-            .into_par_iter()
-            .map(|(ng, material, normals)| TriangleAttributes {
-                ng,
-                material,
-                normals,
-            })
-            .collect();
         let spheres = spheres.to_vec();
 
         let mut aabbs: Vec<Aabb> = triangles

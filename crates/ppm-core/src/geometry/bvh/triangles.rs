@@ -1,5 +1,6 @@
-//! The triangles a [`super::Geometry`] keeps from its meshes, with what a hit needs of each:
-//! the unit geometric normal, the material and the slot of its shading normals.
+//! The triangles a [`super::Geometry`] keeps from its meshes, with what a hit needs of each
+//! ([`TriangleAttributes`]: the unit geometric normal, the material and the slot of its
+//! shading normals).
 //!
 //! A face is skipped when a vertex index is out of range, a vertex is not finite, or its
 //! cross product is zero or not finite (repeated or collinear vertices). The work is done in
@@ -10,16 +11,24 @@
 use super::super::{Triangle, TriangleMesh};
 use glam::Vec3;
 use rayon::prelude::*;
+use std::mem::take;
+
+/// What a hit on a triangle needs beyond its vertices, in one record (one memory access
+/// per hit).
+#[derive(Clone, Copy, Debug)]
+pub(super) struct TriangleAttributes {
+    /// `cross(v1 - v0, v2 - v0)` normalised: the very expression a hit would evaluate.
+    pub(super) ng: Vec3,
+    pub(super) material: u32,
+    /// Index into `Geometry::shading_normals`, u32::MAX when the mesh has no normals.
+    pub(super) normals: u32,
+}
 
 /// The kept triangles by global id (faces of the meshes in order, skipped ones left out).
 #[derive(Default)]
 pub(super) struct Kept {
     pub(super) triangles: Vec<Triangle>,
-    /// `cross(v1 - v0, v2 - v0)` normalised: the very expression a hit would evaluate.
-    pub(super) geometric_normals: Vec<Vec3>,
-    pub(super) materials: Vec<u32>,
-    /// Index into `shading_normals` per triangle, u32::MAX when its mesh has no normals.
-    pub(super) normal_slots: Vec<u32>,
+    pub(super) attributes: Vec<TriangleAttributes>,
     pub(super) shading_normals: Vec<[Vec3; 3]>,
     /// Faces skipped as degenerate.
     pub(super) skipped: usize,
@@ -43,7 +52,6 @@ impl Kept {
     pub(super) fn gather(meshes: &[TriangleMesh]) -> Kept {
         let mut kept = Kept::default();
         for mesh in meshes {
-            let first = kept.triangles.len();
             // The faces kept: all of them in the common case, else the list of their indices.
             let skipped = mesh
                 .indices
@@ -61,32 +69,31 @@ impl Kept {
             let count = mesh.indices.len() - skipped;
             let face_of = |j: usize| if skipped == 0 { j } else { list[j] as usize };
             kept.skipped += skipped;
-            kept.triangles
-                .par_extend((0..count).into_par_iter().map(|j| {
-                    face(mesh, &mesh.indices[face_of(j)]).expect("a kept face is not skipped")
-                }));
-            kept.geometric_normals.par_extend(
-                kept.triangles[first..]
-                    .par_iter()
-                    .map(|t| t.cross().normalize()),
-            );
-            kept.materials.par_extend(
-                (0..count)
-                    .into_par_iter()
-                    .map(|j| mesh.materials.get(face_of(j)).copied().unwrap_or(0)),
-            );
-            if mesh.normals.len() == mesh.positions.len() {
-                let base = kept.shading_normals.len();
-                kept.normal_slots
-                    .par_extend((0..count).into_par_iter().map(|j| (base + j) as u32));
+            let has_normals = mesh.normals.len() == mesh.positions.len();
+            let base = kept.shading_normals.len();
+            // Both arrays in one pass, each element written at its index.
+            let mut both = (take(&mut kept.triangles), take(&mut kept.attributes));
+            both.par_extend((0..count).into_par_iter().map(|j| {
+                let i = face_of(j);
+                let tri = face(mesh, &mesh.indices[i]).expect("a kept face is not skipped");
+                let attributes = TriangleAttributes {
+                    ng: tri.cross().normalize(),
+                    material: mesh.materials.get(i).copied().unwrap_or(0),
+                    normals: if has_normals {
+                        (base + j) as u32
+                    } else {
+                        u32::MAX
+                    },
+                };
+                (tri, attributes)
+            }));
+            (kept.triangles, kept.attributes) = both;
+            if has_normals {
                 kept.shading_normals.par_extend(
                     (0..count)
                         .into_par_iter()
                         .map(|j| mesh.indices[face_of(j)].map(|k| mesh.normals[k as usize])),
                 );
-            } else {
-                kept.normal_slots
-                    .par_extend(rayon::iter::repeat_n(u32::MAX, count));
             }
         }
         kept
@@ -102,11 +109,7 @@ impl Kept {
         let mut i = 0;
         self.triangles.retain(|_| keep(&mut i));
         i = 0;
-        self.geometric_normals.retain(|_| keep(&mut i));
-        i = 0;
-        self.materials.retain(|_| keep(&mut i));
-        i = 0;
-        self.normal_slots.retain(|_| keep(&mut i));
+        self.attributes.retain(|_| keep(&mut i));
     }
 }
 
@@ -126,15 +129,18 @@ mod tests {
                     continue;
                 };
                 kept.triangles.push(tri);
-                kept.geometric_normals.push(tri.cross().normalize());
-                kept.materials
-                    .push(mesh.materials.get(i).copied().unwrap_or(0));
+                let normals = match has_normals {
+                    true => kept.shading_normals.len() as u32,
+                    false => u32::MAX,
+                };
+                kept.attributes.push(TriangleAttributes {
+                    ng: tri.cross().normalize(),
+                    material: mesh.materials.get(i).copied().unwrap_or(0),
+                    normals,
+                });
                 if has_normals {
-                    kept.normal_slots.push(kept.shading_normals.len() as u32);
                     kept.shading_normals
                         .push(idx.map(|k| mesh.normals[k as usize]));
-                } else {
-                    kept.normal_slots.push(u32::MAX);
                 }
             }
         }
@@ -206,7 +212,10 @@ mod tests {
                         .iter()
                         .map(|t| t.v.map(|p| v(&p)))
                         .collect::<Vec<_>>(),
-                    k.geometric_normals.iter().map(v).collect::<Vec<_>>(),
+                    k.attributes
+                        .iter()
+                        .map(|a| (v(&a.ng), a.material, a.normals))
+                        .collect::<Vec<_>>(),
                     k.shading_normals
                         .iter()
                         .map(|n| n.map(|p| v(&p)))
@@ -214,8 +223,6 @@ mod tests {
                 )
             };
             assert!(bits(&got) == bits(&want), "{threads} threads");
-            assert_eq!(got.materials, want.materials);
-            assert_eq!(got.normal_slots, want.normal_slots);
         }
     }
 }
