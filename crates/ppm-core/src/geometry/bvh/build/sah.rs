@@ -223,15 +223,19 @@ impl Binner {
 
     /// The primitive's bin along each axis: `floor(position)` clamped to `0..=last`, NaN to
     /// 0, which is what `(position as usize).min(last)` gives, without the saturating
-    /// conversion's fix-up code per lane. The clamps are done first, in floats, so the
-    /// floor is an integer in `0..=last` and the 2^23 trick converts it exactly.
+    /// conversion's fix-up code per lane. The clamps are done first, on all three lanes at
+    /// once: `max(x, 0)` is `maxps(x, 0)`, which returns its second operand, 0, for a NaN x
+    /// (and +0 for -0, the same bin); `min(x, last)` is `minps`. The floor is then an integer
+    /// in `0..=last` and the 2^23 trick converts it exactly.
     #[inline(always)]
     pub(super) fn bins(&self, r: &PrimRef) -> [usize; 3] {
-        self.position(r).to_array().map(|x| {
-            let x = if x >= 0.0 { x } else { 0.0 };
-            let x = if x < self.last { x } else { self.last };
-            ((x.floor() + TWO_POW_23).to_bits() - TWO_POW_23.to_bits()) as usize
-        })
+        let x = self
+            .position(r)
+            .max(Vec3A::ZERO)
+            .min(Vec3A::splat(self.last));
+        (x.floor() + Vec3A::splat(TWO_POW_23))
+            .to_array()
+            .map(|x| (x.to_bits() - TWO_POW_23.to_bits()) as usize)
     }
 
     /// Whether the primitive's bin along `axis` is below `plane` (`1..=last`), from that
