@@ -286,9 +286,10 @@ impl Geometry {
         }
     }
 
-    /// Asks the cache for the lines of a child the traversal has deferred: a node's four, a
-    /// packet's three or four (a leaf record's one), so that its misses overlap the work on
-    /// the nearer children instead of stalling the loop when it is popped.
+    /// Asks the cache for the lines of a child a node pushes (a node's four, a packet's three
+    /// or four), so that the misses of the children deferred overlap the work on the nearer
+    /// ones instead of stalling the loop when they are popped. Leaf records, rare on meshes,
+    /// are not prefetched.
     #[inline(always)]
     fn prefetch(&self, child: u32) {
         if child & LEAF == 0 {
