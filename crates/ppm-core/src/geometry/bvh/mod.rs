@@ -7,7 +7,7 @@
 //! packet ([`TrianglePacket`]), lane for lane the scalar watertight test.
 //!
 //! - `mod.rs` (this file): the primitive storage ([`Geometry`]) and what a hit returns;
-//! - `triangles.rs`: the triangles kept from the meshes, their normals and materials;
+//! - `triangles.rs`: the triangles kept from the meshes, with the record a hit reads;
 //! - `duplicates.rs`: finding exact duplicate triangles in linear time;
 //! - `build/`: the binned SAH build of the 8-wide tree;
 //! - `wide.rs`: the layout of the 8-wide nodes and leaves;

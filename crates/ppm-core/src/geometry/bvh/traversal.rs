@@ -1,7 +1,7 @@
 //! Traversal of the 8-wide BVH: the robust slab test of a node's eight boxes at once, and a
 //! stack walk nearest child first, for closest-hit and any-hit queries.
 
-use super::wide::{sphere_record, Leaf, Node, SphereRecord, LEAF, PACKET, WIDTH};
+use super::wide::{packet_index, sphere_record, Leaf, Node, SphereRecord, LEAF, PACKET, WIDTH};
 use super::Geometry;
 use crate::geometry::sphere::intersect_sphere;
 use crate::geometry::triangle::{gamma, ShearedRay};
@@ -232,8 +232,8 @@ impl Geometry {
         loop {
             if current & LEAF != 0 {
                 let (packets, spheres) = if current & PACKET != 0 {
-                    let i = (current & !(LEAF | PACKET)) as usize;
-                    (std::slice::from_ref(&self.packets[i]), &[][..])
+                    let packet = &self.packets[packet_index(current)];
+                    (std::slice::from_ref(packet), &[][..])
                 } else {
                     let record = &self.leaves[(current & !LEAF) as usize];
                     (self.leaf_packets(record), self.leaf_spheres(record))
@@ -295,11 +295,7 @@ impl Geometry {
         if child & LEAF == 0 {
             prefetch_lines(self.nodes.as_ptr().wrapping_add(child as usize));
         } else if child & PACKET != 0 {
-            prefetch_lines(
-                self.packets
-                    .as_ptr()
-                    .wrapping_add((child & !(LEAF | PACKET)) as usize),
-            );
+            prefetch_lines(self.packets.as_ptr().wrapping_add(packet_index(child)));
         }
     }
 

@@ -26,6 +26,12 @@ pub(super) const LEAF: u32 = 1 << 31;
 /// Without it, the rest is the index of a [`Leaf`] record.
 pub(super) const PACKET: u32 = 1 << 30;
 
+/// The packet index a [`LEAF`] | [`PACKET`] reference names.
+#[inline(always)]
+pub(super) fn packet_index(child: u32) -> usize {
+    (child & !(LEAF | PACKET)) as usize
+}
+
 /// Children per node.
 pub(super) const WIDTH: usize = 8;
 
