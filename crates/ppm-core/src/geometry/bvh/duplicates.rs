@@ -30,36 +30,59 @@ fn same(a: &Triangle, b: &Triangle) -> bool {
         .all(|(p, q)| p.to_array().map(f32::to_bits) == q.to_array().map(f32::to_bits))
 }
 
-/// Sorted keys per piece of the parallel scan, about.
-const PIECE: usize = 8192;
+/// Triangles per bucket of the hash's range, on average.
+const BUCKET: usize = 32;
 
 /// For each triangle, true if it duplicates an earlier one (the first copy is kept).
-/// A parallel sort by (hash, index), then a scan of each run of equal hashes: linear in
-/// the number of triangles however many copies there are. The runs are scanned in
-/// parallel, in pieces of about [`PIECE`] sorted keys whose starts are moved forward to the
-/// start of a run (no run is cut), each piece listing the duplicates it finds: the mask is
-/// the serial scan's on any number of threads.
+///
+/// Equal triangles have equal hashes, so only triangles of equal hash are compared. The
+/// triangles are distributed by their hash into about n / [`BUCKET`] buckets (a counting
+/// sort: one serial pass counts, one scatters the indices in increasing order), and each
+/// bucket, a few dozen triangles, is sorted stably by hash and scanned for runs of equal
+/// hashes, the buckets in parallel: linear in the number of triangles however many copies
+/// there are (a bucket of 20,000 copies is one run, which the stable sort leaves in place).
+/// Within a run the indices increase, so the first copy is the one kept; the mask does not
+/// depend on the number of threads.
 pub(super) fn duplicate_mask(triangles: &[Triangle]) -> Vec<bool> {
-    let mut keys: Vec<(u64, u32)> = triangles
-        .par_iter()
-        .enumerate()
-        .map(|(i, t)| (key(t), i as u32))
-        .collect();
-    keys.par_sort_unstable();
-    let mut starts: Vec<usize> = (0..keys.len())
-        .step_by(PIECE)
-        .map(|mut start| {
-            while start > 0 && start < keys.len() && keys[start].0 == keys[start - 1].0 {
-                start += 1;
-            }
-            start
+    let hashes: Vec<u64> = triangles.par_iter().map(key).collect();
+    let buckets = (triangles.len() / BUCKET).max(1);
+    // The bucket of a hash: its position in [0, 2^64) scaled to the bucket count (the high
+    // word of a 64 x 64-bit product), so the hash's high bits pick it.
+    let bucket = |h: u64| ((h as u128 * buckets as u128) >> 64) as usize;
+    let mut end = vec![0usize; buckets];
+    for &h in &hashes {
+        end[bucket(h)] += 1;
+    }
+    let mut total = 0;
+    for e in &mut end {
+        total += *e;
+        *e = total;
+    }
+    // Filled from each bucket's end down, in decreasing index order: increasing in the end.
+    let mut fill = end.clone();
+    let mut order = vec![0u32; triangles.len()];
+    for (i, &h) in hashes.iter().enumerate().rev() {
+        let b = bucket(h);
+        fill[b] -= 1;
+        order[fill[b]] = i as u32;
+    }
+    let mut slices = Vec::with_capacity(buckets);
+    let mut rest = order.as_mut_slice();
+    let mut consumed = 0;
+    for &e in &end {
+        let (slice, tail) = std::mem::take(&mut rest).split_at_mut(e - consumed);
+        slices.push(slice);
+        rest = tail;
+        consumed = e;
+    }
+    let found: Vec<Vec<u32>> = slices
+        .into_par_iter()
+        .with_min_len(64)
+        .map(|slice| {
+            slice.sort_by_key(|&i| hashes[i as usize]);
+            duplicates_in(slice, &hashes, triangles)
         })
-        .collect();
-    starts.push(keys.len());
-    starts.dedup();
-    let found: Vec<Vec<u32>> = starts
-        .par_windows(2)
-        .map(|piece| duplicates_in(&keys[piece[0]..piece[1]], triangles))
+        .filter(|found| !found.is_empty())
         .collect();
     let mut duplicate = vec![false; triangles.len()];
     for &i in found.iter().flatten() {
@@ -68,23 +91,29 @@ pub(super) fn duplicate_mask(triangles: &[Triangle]) -> Vec<bool> {
     duplicate
 }
 
-/// The duplicates among sorted `keys` that hold whole runs of equal hashes.
-fn duplicates_in(keys: &[(u64, u32)], triangles: &[Triangle]) -> Vec<u32> {
+/// The duplicates among `indices`, sorted by hash and, within equal hashes, by index.
+fn duplicates_in(indices: &[u32], hashes: &[u64], triangles: &[Triangle]) -> Vec<u32> {
     let mut duplicates = Vec::new();
     let mut kept: Vec<u32> = Vec::new();
     let mut start = 0;
-    while start < keys.len() {
-        let hash = keys[start].0;
-        let end = start + keys[start..].iter().take_while(|k| k.0 == hash).count();
-        // Sorted by index within the run: each one is compared with the distinct triangles
-        // kept before it (one in practice; more only on a hash collision).
-        kept.clear();
-        for &(_, i) in &keys[start..end] {
-            let t = &triangles[i as usize];
-            if kept.iter().any(|&k| same(&triangles[k as usize], t)) {
-                duplicates.push(i);
-            } else {
-                kept.push(i);
+    while start < indices.len() {
+        let hash = hashes[indices[start] as usize];
+        let run = indices[start + 1..]
+            .iter()
+            .take_while(|&&i| hashes[i as usize] == hash)
+            .count();
+        let end = start + 1 + run;
+        if run > 0 {
+            // Each one is compared with the distinct triangles kept before it (one in
+            // practice; more only on a hash collision).
+            kept.clear();
+            for &i in &indices[start..end] {
+                let t = &triangles[i as usize];
+                if kept.iter().any(|&k| same(&triangles[k as usize], t)) {
+                    duplicates.push(i);
+                } else {
+                    kept.push(i);
+                }
             }
         }
         start = end;
@@ -112,12 +141,12 @@ mod tests {
             .collect()
     }
 
-    /// Random triangles with copies: one triangle 20,000 times (a run of equal hashes
-    /// longer than a piece, so the pieces' starts must move past it), 500 copies of random
-    /// earlier ones, and near-copies that differ in one bit or in the order of the vertices
-    /// (not duplicates); on one thread and on three.
+    /// Random triangles with copies: one triangle 20,000 times (a bucket of one long run,
+    /// whose first copy is the one kept), 500 copies of random earlier ones, and near-copies
+    /// that differ in one bit or in the order of the vertices (not duplicates); on one
+    /// thread and on three.
     #[test]
-    fn the_parallel_scan_marks_what_a_hash_map_marks() {
+    fn the_bucketed_scan_marks_what_a_hash_map_marks() {
         let mut rng = Rng::new(23, 0, 0);
         let mut point = || Vec3::new(rng.uniform(), rng.uniform(), rng.uniform());
         let mut triangles: Vec<Triangle> = (0..30_000)
