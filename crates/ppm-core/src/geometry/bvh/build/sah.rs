@@ -128,7 +128,13 @@ impl SetInfo {
 
     #[inline(always)]
     pub(super) fn add(&mut self, r: &PrimRef) {
-        self.prims.add(r);
+        self.add_of::<true>(r);
+    }
+
+    /// [`SetInfo::add`], for a primitive known to be a triangle unless `SPHERES`.
+    #[inline(always)]
+    fn add_of<const SPHERES: bool>(&mut self, r: &PrimRef) {
+        self.prims.add_of::<SPHERES>(r);
         self.centroids.grow_point(r.centroid2());
     }
 
@@ -274,9 +280,20 @@ impl Bin {
 
     #[inline(always)]
     fn add(&mut self, r: &PrimRef) {
+        self.add_of::<true>(r);
+    }
+
+    /// [`Bin::add`], for a primitive known to be a triangle unless `SPHERES` (the sets of a
+    /// mesh hold none, and the build then skips reading and counting the kind).
+    #[inline(always)]
+    fn add_of<const SPHERES: bool>(&mut self, r: &PrimRef) {
         self.bounds.grow(&r.bounds());
-        self.triangles += 1 - r.sphere;
-        self.spheres += r.sphere;
+        if SPHERES {
+            self.triangles += 1 - r.sphere;
+            self.spheres += r.sphere;
+        } else {
+            self.triangles += 1;
+        }
     }
 
     #[inline(always)]
@@ -373,11 +390,12 @@ pub(super) fn choose_split(refs: &[PrimRef], info: &SetInfo) -> Option<Split> {
         return (n > MAX_LEAF).then_some(Split::Halves);
     }
     // Fewer bins for small sets: sweeping 32 bins costs more than it finds among a few.
-    // Small sets are not binned at all but sorted by bin (`best_plane_sorted`, the same
-    // choice).
+    // Small sets are not binned into boxes but swept by their bins' members
+    // (`best_plane_sorted`, the same choice).
     let (cost, split) = match n {
         0..=8 => best_plane_sorted::<8>(refs, info),
-        9..=SMALL => best_plane_sorted::<16>(refs, info),
+        9..=16 => best_plane_sorted::<16>(refs, info),
+        17..=SMALL => best_plane_sorted::<BINS>(refs, info),
         _ => best_plane::<BINS>(refs, info),
     }?;
     let area = info.bounds().half_area();
@@ -438,57 +456,89 @@ fn best_plane<const N: usize>(refs: &[PrimRef], info: &SetInfo) -> Option<(f32, 
     best
 }
 
-/// Sets up to this size are priced by [`best_plane_sorted`] instead of bins.
-const SMALL: usize = 16;
+/// Sets up to this size are priced by [`best_plane_sorted`] instead of bins (at most 32:
+/// a set's members are a `u32` mask).
+const SMALL: usize = 32;
 
 /// The choice of `best_plane::<N>` for a set of at most [`SMALL`] primitives, found without
-/// filling and sweeping `3 N` bins: along each axis the primitives are sorted by their bin
-/// and swept in that order. The plane between bins i - 1 and i only depends on which
-/// primitives lie below it, so of the planes that leave the same primitives on each side,
-/// all priced the same, `best_plane` keeps the first, the one just above the left side's
-/// highest bin; this sweep prices exactly those planes, in the same order, with the same
-/// float operations (boxes are unions by min and max, whose result does not depend on the
-/// order), and keeps the first cheapest as `best_plane` does.
+/// filling and sweeping `3 N` bins of boxes: along each axis each bin records only which
+/// primitives it holds (a bitmask), and the occupied bins are swept in order, each adding
+/// its primitives' boxes to the side being grown. The plane between bins i - 1 and i only
+/// depends on which primitives lie below it, so of the planes that leave the same
+/// primitives on each side, all priced the same, `best_plane` keeps the first, the one just
+/// above the left side's highest bin; this sweep prices exactly those planes (one above each
+/// occupied bin but the last), in the same order, with the same float operations (boxes are
+/// unions by min and max, whose result does not depend on the order), and keeps the first
+/// cheapest as `best_plane` does. Its work is linear in the set, where an insertion sort by
+/// bin was quadratic and a binned sweep pays for all `N` bins.
 fn best_plane_sorted<const N: usize>(refs: &[PrimRef], info: &SetInfo) -> Option<(f32, Split)> {
+    if info.prims.spheres > 0 {
+        best_plane_sorted_of::<N, true>(refs, info)
+    } else {
+        best_plane_sorted_of::<N, false>(refs, info)
+    }
+}
+
+/// [`best_plane_sorted`] for a set that holds spheres only if `SPHERES`.
+#[inline(always)]
+fn best_plane_sorted_of<const N: usize, const SPHERES: bool>(
+    refs: &[PrimRef],
+    info: &SetInfo,
+) -> Option<(f32, Split)> {
+    const { assert!(N.is_power_of_two() && N <= 32) };
     let n = refs.len();
     debug_assert!((2..=SMALL).contains(&n));
     let binner = Binner::new(&info.centroids, N);
-    let mut bins = [[0usize; 3]; SMALL];
-    for (b, r) in bins.iter_mut().zip(refs) {
-        *b = binner.bins(r);
+    // members[axis][bin]: the primitives in that bin; occupied[axis]: the bins holding any.
+    let mut members = [[0u32; N]; 3];
+    let mut occupied = [0u32; 3];
+    for (j, r) in refs.iter().enumerate() {
+        let bins = binner.bins(r);
+        for axis in 0..3 {
+            let bin = bins[axis] & (N - 1);
+            members[axis][bin] |= 1 << j;
+            occupied[axis] |= 1 << bin;
+        }
     }
+    let add_members = |side: &mut Bin, mut members: u32| {
+        while members != 0 {
+            side.add_of::<SPHERES>(&refs[members.trailing_zeros() as usize]);
+            members &= members - 1;
+        }
+    };
     let extent = info.centroids.hi - info.centroids.lo;
     let mut best: Option<(f32, Split)> = None;
     for axis in 0..3 {
         if extent[axis] <= 0.0 {
             continue;
         }
-        // The primitives in the order of their bins along `axis` (insertion sort: n <= 16).
-        let mut order = [0usize; SMALL];
-        for j in 0..n {
-            let mut k = j;
-            while k > 0 && bins[order[k - 1]][axis] > bins[j][axis] {
-                order[k] = order[k - 1];
-                k -= 1;
-            }
-            order[k] = j;
-        }
-        // right_cost[p]: A_R cost(R) of the primitives order[p..] as one side.
-        let mut right_cost = [0.0f32; SMALL];
+        let (members, occupied) = (&members[axis], occupied[axis]);
+        // right_cost[b]: A_R cost(R) of the primitives in bins b.. as one side, for every
+        // occupied bin b above the lowest (the right side of a plane starts at one of them).
+        let mut right_cost = [0.0f32; N];
         let mut right = Bin::EMPTY;
-        for p in (1..n).rev() {
-            right.add(&refs[order[p]]);
-            right_cost[p] = right.bounds.half_area() * leaf_cost(right.triangles, right.spheres);
+        let mut above_lowest = occupied & (occupied - 1);
+        while above_lowest != 0 {
+            let bin = 31 - above_lowest.leading_zeros() as usize;
+            above_lowest &= !(1 << bin);
+            add_members(&mut right, members[bin & (N - 1)]);
+            right_cost[bin & (N - 1)] =
+                right.bounds.half_area() * leaf_cost(right.triangles, right.spheres);
         }
+        // The left side grows bin by bin; the plane above bin `below` has the next occupied
+        // bin, `above`, as the lowest of its right side.
         let mut left = Bin::EMPTY;
-        for p in 1..n {
-            left.add(&refs[order[p - 1]]);
-            let (below, above) = (bins[order[p - 1]][axis], bins[order[p]][axis]);
-            if below == above {
-                continue;
+        let mut rest = occupied;
+        while rest != 0 {
+            let below = rest.trailing_zeros() as usize;
+            rest &= rest - 1;
+            if rest == 0 {
+                break;
             }
-            let cost =
-                left.bounds.half_area() * leaf_cost(left.triangles, left.spheres) + right_cost[p];
+            add_members(&mut left, members[below & (N - 1)]);
+            let above = rest.trailing_zeros() as usize;
+            let cost = left.bounds.half_area() * leaf_cost(left.triangles, left.spheres)
+                + right_cost[above & (N - 1)];
             if best.is_none_or(|(c, _)| cost < c) {
                 let split = Split::Plane {
                     axis,
@@ -509,40 +559,54 @@ pub(super) fn partition(
     split: &Split,
 ) -> (usize, SetInfo, SetInfo) {
     match *split {
-        Split::Plane { axis, bin, bins } => {
-            let along = Binner::new(&info.centroids, bins).axis(axis);
-            let plane = bin as f32;
-            let goes_left = |r: &PrimRef| Binner::below(r, axis, along, plane);
-            // Two-finger partition, deterministic and in place; each primitive is added to
-            // its side's set as the fingers pass it.
-            let (mut left, mut right) = (SetInfo::EMPTY, SetInfo::EMPTY);
-            let (mut i, mut j) = (0, refs.len());
-            loop {
-                while i < j && goes_left(&refs[i]) {
-                    left.add(&refs[i]);
-                    i += 1;
-                }
-                while i < j && !goes_left(&refs[j - 1]) {
-                    right.add(&refs[j - 1]);
-                    j -= 1;
-                }
-                if i >= j {
-                    break;
-                }
-                refs.swap(i, j - 1);
-                left.add(&refs[i]);
-                right.add(&refs[j - 1]);
-                i += 1;
-                j -= 1;
-            }
-            (i, left, right)
+        Split::Plane { axis, bin, bins } if info.prims.spheres > 0 => {
+            partition_plane::<true>(refs, info, axis, bin, bins)
         }
+        Split::Plane { axis, bin, bins } => partition_plane::<false>(refs, info, axis, bin, bins),
         Split::Halves => {
             let mid = refs.len() / 2;
             let (l, r) = refs.split_at(mid);
             (mid, SetInfo::of(l), SetInfo::of(r))
         }
     }
+}
+
+/// [`partition`] by the plane below bin `bin` of `bins` along `axis`, for a set that holds
+/// spheres only if `SPHERES`.
+#[inline(always)]
+fn partition_plane<const SPHERES: bool>(
+    refs: &mut [PrimRef],
+    info: &SetInfo,
+    axis: usize,
+    bin: usize,
+    bins: usize,
+) -> (usize, SetInfo, SetInfo) {
+    let along = Binner::new(&info.centroids, bins).axis(axis);
+    let plane = bin as f32;
+    let goes_left = |r: &PrimRef| Binner::below(r, axis, along, plane);
+    // Two-finger partition, deterministic and in place; each primitive is added to its
+    // side's set as the fingers pass it.
+    let (mut left, mut right) = (SetInfo::EMPTY, SetInfo::EMPTY);
+    let (mut i, mut j) = (0, refs.len());
+    loop {
+        while i < j && goes_left(&refs[i]) {
+            left.add_of::<SPHERES>(&refs[i]);
+            i += 1;
+        }
+        while i < j && !goes_left(&refs[j - 1]) {
+            right.add_of::<SPHERES>(&refs[j - 1]);
+            j -= 1;
+        }
+        if i >= j {
+            break;
+        }
+        refs.swap(i, j - 1);
+        left.add_of::<SPHERES>(&refs[i]);
+        right.add_of::<SPHERES>(&refs[j - 1]);
+        i += 1;
+        j -= 1;
+    }
+    (i, left, right)
 }
 
 #[cfg(test)]

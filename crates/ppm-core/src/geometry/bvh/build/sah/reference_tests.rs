@@ -280,11 +280,13 @@ fn the_sorted_sweep_chooses_the_binned_plane() {
         let info = SetInfo::of(&refs);
         let ours = match refs.len() {
             0..=8 => best_plane_sorted::<8>(&refs, &info),
-            _ => best_plane_sorted::<16>(&refs, &info),
+            9..=16 => best_plane_sorted::<16>(&refs, &info),
+            _ => best_plane_sorted::<BINS>(&refs, &info),
         };
         let theirs = match refs.len() {
             0..=8 => reference_best_plane::<8>(&refs, &info),
-            _ => reference_best_plane::<16>(&refs, &info),
+            9..=16 => reference_best_plane::<16>(&refs, &info),
+            _ => reference_best_plane::<BINS>(&refs, &info),
         };
         assert_eq!(
             plane_bits(ours),
