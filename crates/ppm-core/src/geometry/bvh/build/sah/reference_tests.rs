@@ -69,7 +69,7 @@ fn reference_best_plane<const N: usize>(refs: &[PrimRef], info: &SetInfo) -> Opt
     for r in refs {
         let b = reference_bins(&binner, r);
         for axis in 0..3 {
-            bins[axis][b[axis]].add(r);
+            bins[axis][b[axis]].add_of::<true>(r);
         }
     }
     let extent = info.centroids.hi - info.centroids.lo;
@@ -323,9 +323,9 @@ fn count_ties<const N: usize>(refs: &[PrimRef], info: &SetInfo) -> usize {
             let (mut l, mut r) = (Bin::EMPTY, Bin::EMPTY);
             for p in refs {
                 if left.contains(&p.id) {
-                    l.add(p)
+                    l.add_of::<true>(p)
                 } else {
-                    r.add(p)
+                    r.add_of::<true>(p)
                 }
             }
             let cost = l.bounds.half_area() * leaf_cost(l.triangles, l.spheres)
