@@ -30,57 +30,52 @@ fn same(a: &Triangle, b: &Triangle) -> bool {
         .all(|(p, q)| p.to_array().map(f32::to_bits) == q.to_array().map(f32::to_bits))
 }
 
-/// Triangles per bucket of the hash's range, on average.
-const BUCKET: usize = 32;
+/// Triangles per bucket of the hash's range, on average: a bucket is sorted in cache.
+const BUCKET: usize = 1024;
 
 /// For each triangle, true if it duplicates an earlier one (the first copy is kept).
 ///
 /// Equal triangles have equal hashes, so only triangles of equal hash are compared. The
-/// triangles are distributed by their hash into about n / [`BUCKET`] buckets (a counting
-/// sort: one serial pass counts, one scatters the indices in increasing order), and each
-/// bucket, a few dozen triangles, is sorted stably by hash and scanned for runs of equal
-/// hashes, the buckets in parallel: linear in the number of triangles however many copies
-/// there are (a bucket of 20,000 copies is one run, which the stable sort leaves in place).
-/// Within a run the indices increase, so the first copy is the one kept; the mask does not
-/// depend on the number of threads.
+/// (hash, index) pairs are distributed by hash into about n / [`BUCKET`] buckets (one
+/// counting pass and one scattering pass, serial and sequential in the triangles), and each
+/// bucket is sorted by (hash, index) and scanned for runs of equal hashes, the buckets in
+/// parallel: a few passes over the triangles and small sorts in cache, where one parallel
+/// sort of all the pairs moved each of them log n times. Within a run the indices increase,
+/// so the first copy is the one kept; the mask does not depend on the number of threads, nor
+/// on how many copies there are (20,000 copies are one run of one bucket).
 pub(super) fn duplicate_mask(triangles: &[Triangle]) -> Vec<bool> {
     let hashes: Vec<u64> = triangles.par_iter().map(key).collect();
     let buckets = (triangles.len() / BUCKET).max(1);
     // The bucket of a hash: its position in [0, 2^64) scaled to the bucket count (the high
     // word of a 64 x 64-bit product), so the hash's high bits pick it.
     let bucket = |h: u64| ((h as u128 * buckets as u128) >> 64) as usize;
-    let mut end = vec![0usize; buckets];
+    let mut start = vec![0usize; buckets + 1];
     for &h in &hashes {
-        end[bucket(h)] += 1;
+        start[bucket(h) + 1] += 1;
     }
-    let mut total = 0;
-    for e in &mut end {
-        total += *e;
-        *e = total;
+    for b in 0..buckets {
+        start[b + 1] += start[b];
     }
-    // Filled from each bucket's end down, in decreasing index order: increasing in the end.
-    let mut fill = end.clone();
-    let mut order = vec![0u32; triangles.len()];
-    for (i, &h) in hashes.iter().enumerate().rev() {
+    let mut fill = start.clone();
+    let mut pairs = vec![(0u64, 0u32); triangles.len()];
+    for (i, &h) in hashes.iter().enumerate() {
         let b = bucket(h);
-        fill[b] -= 1;
-        order[fill[b]] = i as u32;
+        pairs[fill[b]] = (h, i as u32);
+        fill[b] += 1;
     }
+    drop(hashes);
     let mut slices = Vec::with_capacity(buckets);
-    let mut rest = order.as_mut_slice();
-    let mut consumed = 0;
-    for &e in &end {
-        let (slice, tail) = std::mem::take(&mut rest).split_at_mut(e - consumed);
+    let mut rest = pairs.as_mut_slice();
+    for b in 0..buckets {
+        let (slice, tail) = std::mem::take(&mut rest).split_at_mut(start[b + 1] - start[b]);
         slices.push(slice);
         rest = tail;
-        consumed = e;
     }
     let found: Vec<Vec<u32>> = slices
         .into_par_iter()
-        .with_min_len(64)
         .map(|slice| {
-            slice.sort_by_key(|&i| hashes[i as usize]);
-            duplicates_in(slice, &hashes, triangles)
+            slice.sort_unstable();
+            duplicates_in(slice, triangles)
         })
         .filter(|found| !found.is_empty())
         .collect();
@@ -91,23 +86,19 @@ pub(super) fn duplicate_mask(triangles: &[Triangle]) -> Vec<bool> {
     duplicate
 }
 
-/// The duplicates among `indices`, sorted by hash and, within equal hashes, by index.
-fn duplicates_in(indices: &[u32], hashes: &[u64], triangles: &[Triangle]) -> Vec<u32> {
+/// The duplicates among `pairs` of (hash, index), sorted.
+fn duplicates_in(pairs: &[(u64, u32)], triangles: &[Triangle]) -> Vec<u32> {
     let mut duplicates = Vec::new();
     let mut kept: Vec<u32> = Vec::new();
     let mut start = 0;
-    while start < indices.len() {
-        let hash = hashes[indices[start] as usize];
-        let run = indices[start + 1..]
-            .iter()
-            .take_while(|&&i| hashes[i as usize] == hash)
-            .count();
-        let end = start + 1 + run;
-        if run > 0 {
+    while start < pairs.len() {
+        let hash = pairs[start].0;
+        let end = start + pairs[start..].iter().take_while(|k| k.0 == hash).count();
+        if end - start > 1 {
             // Each one is compared with the distinct triangles kept before it (one in
             // practice; more only on a hash collision).
             kept.clear();
-            for &i in &indices[start..end] {
+            for &(_, i) in &pairs[start..end] {
                 let t = &triangles[i as usize];
                 if kept.iter().any(|&k| same(&triangles[k as usize], t)) {
                     duplicates.push(i);
