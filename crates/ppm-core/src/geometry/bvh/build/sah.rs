@@ -343,7 +343,15 @@ fn bin_refs<const N: usize>(binner: &Binner, refs: &[PrimRef], spheres: bool, bi
         );
 }
 
+/// Runs at least this long are binned as two interleaved halves (see [`bin_serial`]).
+const TWO_WAY_MIN: usize = 256;
+
 /// The binning loop over one run of primitives; `SPHERES` as `bin_refs`'s `spheres`.
+///
+/// Neighbouring primitives of a mesh mostly fall in the same bins, so each update of a bin
+/// waits for the previous one's store. Long runs are therefore binned as two halves into two
+/// sets of bins in one interleaved loop (two independent chains of updates), merged after:
+/// the same bins, as a box union by min and max and a sum do not depend on the order.
 #[inline(always)]
 fn bin_serial<const N: usize, const SPHERES: bool>(
     binner: &Binner,
@@ -351,19 +359,41 @@ fn bin_serial<const N: usize, const SPHERES: bool>(
     bins: &mut Bins<N>,
 ) {
     const { assert!(N.is_power_of_two()) };
-    for r in refs {
-        let b = binner.bins(r);
-        let bounds = r.bounds();
-        for axis in 0..3 {
-            // The bin is at most N - 1 already; the mask only lets the compiler see it.
-            let bin = &mut bins[axis][b[axis] & (N - 1)];
-            bin.bounds.grow(&bounds);
-            if SPHERES {
-                bin.triangles += 1 - r.sphere;
-                bin.spheres += r.sphere;
-            } else {
-                bin.triangles += 1;
-            }
+    if refs.len() < TWO_WAY_MIN {
+        refs.iter()
+            .for_each(|r| bin_one::<N, SPHERES>(binner, r, bins));
+        return;
+    }
+    let mut other = [[Bin::EMPTY; N]; 3];
+    let (first, second) = refs.split_at(refs.len() / 2);
+    for (a, b) in first.iter().zip(second) {
+        bin_one::<N, SPHERES>(binner, a, bins);
+        bin_one::<N, SPHERES>(binner, b, &mut other);
+    }
+    if let Some(last) = second.get(first.len()) {
+        bin_one::<N, SPHERES>(binner, last, &mut other);
+    }
+    for axis in 0..3 {
+        for i in 0..N {
+            bins[axis][i].merge(&other[axis][i]);
+        }
+    }
+}
+
+/// One primitive added to its bin on each axis.
+#[inline(always)]
+fn bin_one<const N: usize, const SPHERES: bool>(binner: &Binner, r: &PrimRef, bins: &mut Bins<N>) {
+    let b = binner.bins(r);
+    let bounds = r.bounds();
+    for axis in 0..3 {
+        // The bin is at most N - 1 already; the mask only lets the compiler see it.
+        let bin = &mut bins[axis][b[axis] & (N - 1)];
+        bin.bounds.grow(&bounds);
+        if SPHERES {
+            bin.triangles += 1 - r.sphere;
+            bin.spheres += r.sphere;
+        } else {
+            bin.triangles += 1;
         }
     }
 }
