@@ -331,7 +331,7 @@ impl Geometry {
 /// Prefetches the cache lines of the value at `p` (into every level). `p` is never
 /// dereferenced: a prefetch does not fault, and nothing is read through the pointer.
 #[inline(always)]
-fn prefetch_lines<T>(p: *const T) {
+pub(super) fn prefetch_lines<T>(p: *const T) {
     #[cfg(target_arch = "x86_64")]
     {
         use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};

@@ -5,6 +5,7 @@
 use super::super::triangle_packet::TrianglePacket;
 use super::super::{Sphere, Triangle};
 use super::build::{build_tree, Aabb};
+use super::traversal::prefetch_lines;
 use glam::Vec3;
 use rayon::prelude::*;
 
@@ -31,6 +32,9 @@ pub(super) const PACKET: u32 = 1 << 30;
 pub(super) fn packet_index(child: u32) -> usize {
     (child & !(LEAF | PACKET)) as usize
 }
+
+/// How many packets ahead the leaf packing prefetches the triangles it gathers.
+const GATHER_AHEAD: usize = 8;
 
 /// Children per node.
 pub(super) const WIDTH: usize = 8;
@@ -146,22 +150,33 @@ impl WideBvh {
         }
         // Packet `group` of a leaf: its triangles 4 group .. 4 group + 4 (spheres skipped),
         // through a fixed array (no allocation).
-        bvh.packets
-            .par_extend(packet_source.par_iter().map(|&(l, group)| {
-                let mut lanes = [([Vec3::ZERO; 3], 0u32); 4];
-                let mut filled = 0;
-                let leaf = leaf_refs(tree.leaves[l as usize]);
-                for r in leaf
-                    .iter()
-                    .filter(|r| r.sphere == 0)
-                    .skip(4 * group as usize)
-                    .take(4)
-                {
-                    lanes[filled] = (triangles[r.id as usize].v, r.id);
-                    filled += 1;
-                }
-                TrianglePacket::new(&lanes[..filled])
-            }));
+        bvh.packets.par_extend(
+            packet_source
+                .par_iter()
+                .enumerate()
+                .map(|(p, &(l, group))| {
+                    // The triangles are read by id, in no order: those of the packet
+                    // GATHER_AHEAD places on are asked of the cache now.
+                    if let Some(&(l, _)) = packet_source.get(p + GATHER_AHEAD) {
+                        for r in leaf_refs(tree.leaves[l as usize]) {
+                            prefetch_lines(triangles.as_ptr().wrapping_add(r.id as usize));
+                        }
+                    }
+                    let mut lanes = [([Vec3::ZERO; 3], 0u32); 4];
+                    let mut filled = 0;
+                    let leaf = leaf_refs(tree.leaves[l as usize]);
+                    for r in leaf
+                        .iter()
+                        .filter(|r| r.sphere == 0)
+                        .skip(4 * group as usize)
+                        .take(4)
+                    {
+                        lanes[filled] = (triangles[r.id as usize].v, r.id);
+                        filled += 1;
+                    }
+                    TrianglePacket::new(&lanes[..filled])
+                }),
+        );
         tree.nodes.par_iter_mut().for_each(|node| {
             for i in 0..WIDTH {
                 if node.valid >> i & 1 == 1 && node.child[i] & LEAF != 0 {
