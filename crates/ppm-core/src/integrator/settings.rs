@@ -19,6 +19,9 @@ pub enum Algorithm {
     /// Stochastic progressive photon mapping (`-a sppm`): per-pixel radii and statistics,
     /// photons splatted into the camera paths' visible points and never stored.
     Sppm,
+    /// Vertex connection and merging (`-a vcm`, Georgiev et al. 2012): bidirectional path
+    /// tracing and photon mapping combined by MIS; one light subpath per pixel per iteration.
+    Vcm,
 }
 
 /// Light paths per photon-mapping iteration when neither the scene nor the command line
@@ -81,11 +84,12 @@ pub struct RenderSettings {
     pub rr_depth: u32,
     /// Path tracer: how light is found.
     pub light_strategy: LightStrategy,
-    /// Photon mapping: light paths per iteration.
+    /// Photon mapping: light paths per iteration (VCM traces one per pixel and ignores it).
     pub photons: u32,
-    /// Photon mapping: initial gather radius (scene units, or per pixel from its footprint).
+    /// Photon mapping: initial gather radius (scene units, or per pixel from its footprint);
+    /// VCM: initial merge radius (scene units, or `auto`: the median pixel footprint).
     pub radius: Radius,
-    /// Photon mapping: radius reduction r_{i+1}^2 = r_i^2 (i + alpha) / (i + 1).
+    /// Photon mapping and VCM: radius reduction r_{i+1}^2 = r_i^2 (i + alpha) / (i + 1).
     pub alpha: f32,
     /// Photon mapping: direct light from photons or from light sampling.
     pub direct: DirectMode,
