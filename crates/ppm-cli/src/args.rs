@@ -236,6 +236,8 @@ pub enum AlgorithmArg {
     Ppm,
     /// Stochastic progressive photon mapping (per-pixel radii; photons never stored).
     Sppm,
+    /// Vertex connection and merging: bidirectional path tracing and photon mapping by MIS.
+    Vcm,
 }
 
 impl AlgorithmArg {
@@ -244,6 +246,7 @@ impl AlgorithmArg {
             AlgorithmArg::Pt => Algorithm::Path,
             AlgorithmArg::Ppm => Algorithm::Ppm,
             AlgorithmArg::Sppm => Algorithm::Sppm,
+            AlgorithmArg::Vcm => Algorithm::Vcm,
         }
     }
 
@@ -253,6 +256,7 @@ impl AlgorithmArg {
             AlgorithmArg::Pt => "pt",
             AlgorithmArg::Ppm => "ppm",
             AlgorithmArg::Sppm => "sppm",
+            AlgorithmArg::Vcm => "vcm",
         }
     }
 }
