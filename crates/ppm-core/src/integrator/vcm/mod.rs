@@ -149,11 +149,12 @@ impl VcmRenderer {
     /// pixel (a lower bound: scenes with longer light subpaths store more).
     pub fn memory_estimate(width: u32, height: u32, _settings: &RenderSettings) -> MemoryEstimate {
         let pixels = width as u64 * height as u64;
-        let splat_bytes = std::mem::size_of::<[u128; 3]>() as u64;
+        // The splat sums, and each light path's first vertex index.
+        let per_pixel = (std::mem::size_of::<[u128; 3]>() + std::mem::size_of::<u32>()) as u64;
         let mut estimate = MemoryEstimate::default();
         estimate.add(
             MemoryPart::Image,
-            image_bytes(width, height).saturating_add(pixels.saturating_mul(splat_bytes)),
+            image_bytes(width, height).saturating_add(pixels.saturating_mul(per_pixel)),
         );
         estimate.add(
             MemoryPart::Photons,
@@ -245,6 +246,13 @@ impl VcmRenderer {
             bounds: self.bounds,
         };
         passes.eye = clock.lap();
+        if self.path_start.capacity() == 0 {
+            // What the memory estimate states; grown when a scene stores more vertices.
+            let paths = light_paths as usize;
+            self.path_start.reserve_exact(paths + 1);
+            self.vertices.reserve_exact(paths * PHOTONS_PER_PATH);
+            self.records.reserve_exact(paths * PHOTONS_PER_PATH);
+        }
         let light = self.light_pass(scene, &params, light_paths, stop)?;
         passes.photon = clock.lap();
         self.records.clear();
