@@ -204,7 +204,7 @@ impl CameraPass<'_> {
             }
             let to_y = y.vertex.hit.p - hit.p;
             let dist2 = to_y.length_squared();
-            if !(dist2 > 0.0) {
+            if dist2.is_nan() || dist2 <= 0.0 {
                 continue;
             }
             let w = to_y / dist2.sqrt();

@@ -57,6 +57,17 @@ const PIXELS_PER_TASK: usize = 256;
 /// Bytes per stored light vertex: the vertex and its record in the hash grid.
 const BYTES_PER_LIGHT_VERTEX: u64 = std::mem::size_of::<LightVertex>() as u64 + BYTES_PER_PHOTON;
 
+/// What one work item of the light pass produces, for its paths in order: their vertices,
+/// the end of each path's vertices (relative to the item's first), the camera splats, and
+/// the rays traced.
+#[derive(Default)]
+struct LightTask {
+    vertices: Vec<LightVertex>,
+    ends: Vec<u32>,
+    splats: Vec<Splat>,
+    counters: RayCounters,
+}
+
 /// The render state of vertex connection and merging.
 pub struct VcmRenderer {
     settings: RenderSettings,
@@ -185,19 +196,24 @@ impl VcmRenderer {
         stop: &F,
     ) -> Option<RayCounters> {
         let abandoned = AtomicBool::new(false);
-        let tasks: Vec<(Vec<LightVertex>, Vec<u32>, Vec<Splat>, RayCounters)> = (0..paths
-            .div_ceil(PATHS_PER_TASK))
+        let tasks: Vec<LightTask> = (0..paths.div_ceil(PATHS_PER_TASK))
             .into_par_iter()
             .map(|task| {
-                let mut out = (Vec::new(), Vec::new(), Vec::new(), RayCounters::default());
+                let mut out = LightTask::default();
                 if stop() {
                     abandoned.store(true, Ordering::Relaxed);
                     return out;
                 }
-                let (vertices, ends, splats, counters) = &mut out;
                 for path in task * PATHS_PER_TASK..((task + 1) * PATHS_PER_TASK).min(paths) {
-                    trace_light_subpath(scene, params, path, vertices, splats, counters);
-                    ends.push(vertices.len() as u32);
+                    trace_light_subpath(
+                        scene,
+                        params,
+                        path,
+                        &mut out.vertices,
+                        &mut out.splats,
+                        &mut out.counters,
+                    );
+                    out.ends.push(out.vertices.len() as u32);
                 }
                 out
             })
@@ -210,14 +226,14 @@ impl VcmRenderer {
         self.path_start.push(0);
         self.splats.clear();
         let mut counters = RayCounters::default();
-        for (vertices, ends, splats, c) in &tasks {
+        for task in &tasks {
             let base = self.vertices.len() as u32;
-            self.path_start.extend(ends.iter().map(|e| base + e));
-            self.vertices.extend_from_slice(vertices);
-            for s in splats {
+            self.path_start.extend(task.ends.iter().map(|e| base + e));
+            self.vertices.extend_from_slice(&task.vertices);
+            for s in &task.splats {
                 self.splats.add(s.pixel as usize, s.value);
             }
-            counters = RayCounters::merge(counters, *c);
+            counters = RayCounters::merge(counters, task.counters);
         }
         Some(counters)
     }
