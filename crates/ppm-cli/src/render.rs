@@ -149,6 +149,13 @@ pub fn run(args: &RenderArgs, interrupt: &Interrupt) -> Result<Outcome> {
             args.aov[0].name()
         );
     }
+    if !args.aov.is_empty() && args.algorithm == AlgorithmArg::Vcm {
+        bail!(
+            "--aov {} needs photon mapping (-a ppm or -a sppm): VCM merges with one radius for \
+             every pixel (the summary prints it) and weights its merges by MIS",
+            args.aov[0].name()
+        );
+    }
     for aov in &args.aov {
         output::check_writable(&paths.aov(aov.name()))?;
     }

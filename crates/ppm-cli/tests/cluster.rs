@@ -56,11 +56,11 @@ fn refused(dir: &Path, args: &[&str]) -> String {
 }
 
 #[test]
-fn shards_merged_equal_a_single_render_for_pt_and_ppm_at_1_and_2_threads() {
+fn shards_merged_equal_a_single_render_for_pt_ppm_and_vcm_at_1_and_2_threads() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
     tiny_scene(d);
-    for algorithm in ["pt", "ppm"] {
+    for algorithm in ["pt", "ppm", "vcm"] {
         ok(
             d,
             &[
@@ -121,11 +121,11 @@ fn shards_merged_equal_a_single_render_for_pt_and_ppm_at_1_and_2_threads() {
 }
 
 #[test]
-fn resumed_render_equals_an_uninterrupted_one_for_pt_and_ppm() {
+fn resumed_render_equals_an_uninterrupted_one_for_pt_ppm_and_vcm() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
     tiny_scene(d);
-    for algorithm in ["pt", "ppm"] {
+    for algorithm in ["pt", "ppm", "vcm"] {
         let base = ["tiny.yml", "-a", algorithm, "--seed", "5"];
         ok(
             d,

@@ -288,21 +288,14 @@ impl Renderer {
         }
     }
 
-    /// The gather radius of every pixel in the last iteration (photon mapping, and VCM's one
-    /// merge radius; `None` for the path tracer or before the first iteration), as a grey image.
+    /// The gather radius of every pixel in the last iteration (photon mapping; `None` for the
+    /// path tracer, VCM (one merge radius: [`VcmRenderer::last_radius`]) or before the first
+    /// iteration), as a grey image.
     pub fn radius_image(&self) -> Option<Image> {
         match self {
-            Renderer::Path(_) => None,
+            Renderer::Path(_) | Renderer::Vcm(_) => None,
             Renderer::Ppm(r) => r.radius_image(),
             Renderer::Sppm(r) => Some(r.radius_image()),
-            Renderer::Vcm(r) => r.last_radius().map(|radius| {
-                let f = r.film();
-                Image {
-                    width: f.width,
-                    height: f.height,
-                    pixels: vec![glam::Vec3::splat(radius); (f.width * f.height) as usize],
-                }
-            }),
         }
     }
 
