@@ -1,16 +1,16 @@
 //! What a render used, in words: the settings line of the summary (seed, photons, radius) and
 //! the `-v` lines printed before rendering.
 
-use crate::args::RenderArgs;
+use crate::args::{AlgorithmArg, RenderArgs};
 use anyhow::{bail, Result};
 use ppm_core::integrator::{Algorithm, DirectMode, Radius, RadiusSchedule, RenderSettings};
 use ppm_core::pixel_bounds::PixelBounds;
 use std::path::Path;
 
-/// The iterations a render asks for: `-n`, or `--spp` (path tracing only: one sample per
-/// pixel per iteration, so N samples per pixel are N iterations).
-pub fn requested_iterations(args: &RenderArgs) -> Result<Option<u64>> {
-    match (args.spp, args.algorithm.algorithm()) {
+/// The iterations a render with `algorithm` asks for: `-n`, or `--spp` (path tracing only:
+/// one sample per pixel per iteration, so N samples per pixel are N iterations).
+pub fn requested_iterations(args: &RenderArgs, algorithm: AlgorithmArg) -> Result<Option<u64>> {
+    match (args.spp, algorithm.algorithm()) {
         (None, _) => Ok(args.iterations),
         (Some(spp), Algorithm::Path) => Ok(Some(spp)),
         (Some(_), Algorithm::Ppm | Algorithm::Sppm | Algorithm::Vcm) => bail!(

@@ -214,6 +214,24 @@ fn a_checkpoint_of_a_killed_render_resumes_exactly() {
     assert_same_image(d, "resumed", "whole", &format!("checkpoint at {done} + 3"));
 }
 
+/// A scene's `render.algorithm` is the default of `-a`: the render without `-a` is the one
+/// with `-a vcm`, and records its algorithm; `-a` overrides it.
+#[test]
+fn the_scene_may_name_the_algorithm() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let scene = common::TINY_SCENE.replace("render:\n", "render:\n  algorithm: vcm\n");
+    assert_ne!(scene, common::TINY_SCENE);
+    std::fs::write(d.join("named.yml"), scene).unwrap();
+    let base = ["named.yml", "-n", "2", "--seed", "4"];
+    ok(d, &[&base[..], &["-o", "default"]].concat());
+    ok(d, &[&base[..], &["-a", "vcm", "-o", "vcm"]].concat());
+    ok(d, &[&base[..], &["-a", "pt", "-o", "pt"]].concat());
+    assert_same_image(d, "default", "vcm", "render.algorithm: vcm without -a");
+    assert_eq!(attributes(&d.join("default.exr"))["ppm.algorithm"], "vcm");
+    assert_eq!(attributes(&d.join("pt.exr"))["ppm.algorithm"], "pt");
+}
+
 #[test]
 fn every_exr_records_its_provenance() {
     let dir = tempfile::tempdir().unwrap();

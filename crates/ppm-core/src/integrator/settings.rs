@@ -96,14 +96,15 @@ pub struct RenderSettings {
 }
 
 impl RenderSettings {
-    /// Defaults, taking what the scene file says where it says anything. Without a radius in
+    /// Defaults, taking what the scene file says where it says anything (the algorithm:
+    /// `ppm` unless the file names one). Without a radius in
     /// the scene the initial radius is [`Radius::Auto`]: a few pixel footprints at each pixel's
     /// visible point, which depends neither on the scene's units nor on its extent. alpha
     /// defaults to 2/3, the asymptotically best value for surfaces (Knaus and Zwicker 2011).
     pub fn new(scene: &Scene) -> Self {
         let d = scene.defaults;
         RenderSettings {
-            algorithm: Algorithm::Ppm,
+            algorithm: d.algorithm.unwrap_or(Algorithm::Ppm),
             seed: 0,
             max_depth: d.max_depth,
             rr_depth: 3,
