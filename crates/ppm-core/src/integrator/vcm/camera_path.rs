@@ -72,7 +72,9 @@ impl CameraPass<'_> {
             edges += 1;
             let material = scene.material(&hit);
             let v = SurfaceVertex::new(hit, material.bsdf, -ray.dir);
-            state.arrive(hit.t * hit.t, v.cos_wo());
+            if !state.arrive(hit.t * hit.t, v.cos_wo()) {
+                break;
+            }
             let x = CameraVertex {
                 v: &v,
                 state: &state,

@@ -93,7 +93,9 @@ pub(super) fn trace_light_subpath(
         edges += 1;
         let bsdf = scene.material(&hit).bsdf;
         let v = SurfaceVertex::new(hit, bsdf, -ray.dir);
-        state.arrive(hit.t * hit.t, v.cos_wo());
+        if !state.arrive(hit.t * hit.t, v.cos_wo()) {
+            return;
+        }
         if !bsdf.is_delta() {
             let stored = LightVertex {
                 vertex: v,

@@ -107,13 +107,20 @@ impl SubpathMis {
 
     /// At the next vertex, found at distance^2 `dist2` with |cos| `cos` between the incoming
     /// direction and the normal, completing TR eqs. 31-33 (first vertex) or 34-36: the solid-angle pdfs of the last step become
-    /// area pdfs, dVCM *= mis(d^2), and every sum /= mis(|cos|).
+    /// area pdfs, dVCM *= mis(d^2), and every sum /= mis(|cos|). Returns false (the subpath
+    /// ends) for a direction in the surface's plane, which carries nothing and would make the
+    /// sums infinite.
     #[inline]
-    pub fn arrive(&mut self, dist2: f32, cos: f32) {
+    #[must_use]
+    pub fn arrive(&mut self, dist2: f32, cos: f32) -> bool {
+        if cos.is_nan() || cos <= 0.0 {
+            return false;
+        }
         let inv = 1.0 / mis(cos);
         self.dvcm *= mis(dist2) * inv;
         self.dvc *= inv;
         self.dvm *= inv;
+        true
     }
 
     /// After sampling the next direction at a vertex (TR eqs. 35-37): `cos_out` is |cos| of the
