@@ -3,11 +3,12 @@
 //! Georgiev, Krivanek, Davidovic, Slusallek 2012, "Light transport simulation with vertex
 //! connection and merging" (SIGGRAPH Asia), and its technical report "Implementing vertex
 //! connection and merging" (Georgiev 2012, "TR" below, with its equation numbers), as SmallVCM
-//! implements them (its comments cite the same equations). Every sampling technique of a full path x_0..x_k (light tracing, the camera
-//! path hitting a light, connections of any light and camera vertex, merging at any non-delta
-//! vertex) gets the weight w = 1 / (sum over techniques of (p_t / p_this)^beta) (TR eq. 37:
-//! w = 1 / (w_light + 1 + w_camera), the two partial sums of the subpaths); each subpath
-//! carries three partial sums that make that weight a constant amount of work per technique:
+//! implements them (its comments cite the same equations). Every sampling technique of a full
+//! path x_0..x_k (light tracing, the camera path hitting a light, connections of any light and
+//! camera vertex, merging at any non-delta vertex) gets the weight
+//! w = 1 / (sum over techniques of (p_t / p_this)^beta) (TR eq. 37: w = 1 / (w_light + 1 +
+//! w_camera), the two partial sums of the subpaths); each subpath carries three partial sums
+//! that make that weight a constant amount of work per technique:
 //!
 //! - dVCM: the ratio for the technique that ends this subpath at its last vertex,
 //! - dVC: the sum of the ratios of the connection techniques further down the subpath,
@@ -15,14 +16,14 @@
 //!
 //! pdfs are solid-angle (`W`) or area (`A`); p_forward is the pdf with which the subpath
 //! sampled its last direction, p_reverse the pdf of the opposite direction at the same vertex.
-//! Merging and connection are related by eta_VCM = pi r^2 N_light (TR eq. 20, with
-//! n_VC = 1 and n_VM = N_light): merging's
-//! pdf is that of connecting, times the probability pi r^2 p_A that a light vertex lands in
-//! the disc, times the N_light light paths of an iteration.
+//! Merging and connection are related by eta_VCM = pi r^2 N_light (TR eq. 20, with n_VC = 1
+//! and n_VM = N_light): merging's pdf is that of connecting, times the probability pi r^2 p_A
+//! that a light vertex lands in the disc, times the N_light light paths of an iteration.
 //!
 //! Russian roulette and the path-length bound are left out of the pdfs: any weights that sum
-//! to one over the techniques which can produce a path keep the estimator unbiased, and every
-//! technique here can produce every path of at most `max_depth + 1` edges.
+//! to one over the techniques which can produce a path keep the estimator unbiased, and the
+//! length bound removes no technique from a path of at most `max_depth + 1` edges (each
+//! subpath may grow to that length).
 
 /// The power heuristic's exponent (beta = 2), as SmallVCM uses by default.
 const BETA: i32 = 2;
@@ -70,8 +71,9 @@ pub(super) struct SubpathMis {
 }
 
 impl SubpathMis {
-    /// A light subpath leaving a light (TR eqs. 31-33, delta lights eqs. 48-50): with p_0 the area pdf of the origin
-    /// (times the light's choice) and p_e = p_0 p_W(dir) the emission pdf,
+    /// A light subpath leaving a light (TR eqs. 31-33, delta lights eqs. 48-50): with p_0 the
+    /// area pdf of the origin (times the light's choice) and p_e = p_0 p_W(dir) the emission
+    /// pdf,
     /// dVCM = mis(p_0 / p_e) = mis(1 / p_W), dVC = mis(cos_0 / p_e) (0 for a delta light,
     /// which no camera subpath can hit), dVM = dVC mis(1/eta_VCM).
     pub fn light_start(
@@ -106,8 +108,9 @@ impl SubpathMis {
     }
 
     /// At the next vertex, found at distance^2 `dist2` with |cos| `cos` between the incoming
-    /// direction and the normal, completing TR eqs. 31-33 (first vertex) or 34-36: the solid-angle pdfs of the last step become
-    /// area pdfs, dVCM *= mis(d^2), and every sum /= mis(|cos|). Returns false (the subpath
+    /// direction and the normal, completing TR eqs. 31-33 (first vertex) or 34-36: the
+    /// solid-angle pdfs of the last step become area pdfs, dVCM *= mis(d^2), and every sum
+    /// /= mis(|cos|). Returns false (the subpath
     /// ends) for a direction in the surface's plane, which carries nothing and would make the
     /// sums infinite.
     #[inline]
