@@ -69,9 +69,9 @@ pub struct RenderArgs {
     /// [default: <scene stem>.png/.exr in the current folder].
     #[arg(short, long, value_name = "PATH")]
     pub output: Option<PathBuf>,
-    /// Integrator.
-    #[arg(short, long, value_enum, default_value_t = AlgorithmArg::Ppm)]
-    pub algorithm: AlgorithmArg,
+    /// Integrator [default: the scene's `render.algorithm`, else ppm].
+    #[arg(short, long, value_enum)]
+    pub algorithm: Option<AlgorithmArg>,
     #[command(flatten)]
     pub settings: SettingsArgs,
     /// Stop after the iteration that crosses this much render time (seconds).
@@ -236,6 +236,8 @@ pub enum AlgorithmArg {
     Ppm,
     /// Stochastic progressive photon mapping (per-pixel radii; photons never stored).
     Sppm,
+    /// Vertex connection and merging: bidirectional path tracing and photon mapping by MIS.
+    Vcm,
 }
 
 impl AlgorithmArg {
@@ -244,7 +246,24 @@ impl AlgorithmArg {
             AlgorithmArg::Pt => Algorithm::Path,
             AlgorithmArg::Ppm => Algorithm::Ppm,
             AlgorithmArg::Sppm => Algorithm::Sppm,
+            AlgorithmArg::Vcm => Algorithm::Vcm,
         }
+    }
+
+    /// The value naming `algorithm`.
+    pub fn from_algorithm(algorithm: Algorithm) -> Self {
+        match algorithm {
+            Algorithm::Path => AlgorithmArg::Pt,
+            Algorithm::Ppm => AlgorithmArg::Ppm,
+            Algorithm::Sppm => AlgorithmArg::Sppm,
+            Algorithm::Vcm => AlgorithmArg::Vcm,
+        }
+    }
+
+    /// The algorithm a render uses: `-a` if given, else the scene's `render.algorithm`, else
+    /// `ppm`.
+    pub fn resolve(given: Option<AlgorithmArg>, scene: Option<Algorithm>) -> Self {
+        given.unwrap_or(scene.map_or(AlgorithmArg::Ppm, AlgorithmArg::from_algorithm))
     }
 
     /// The name used on the command line, in CSV files and in plots.
@@ -253,6 +272,7 @@ impl AlgorithmArg {
             AlgorithmArg::Pt => "pt",
             AlgorithmArg::Ppm => "ppm",
             AlgorithmArg::Sppm => "sppm",
+            AlgorithmArg::Vcm => "vcm",
         }
     }
 }
@@ -374,7 +394,7 @@ mod tests {
         assert_eq!(r.iterations, Some(3));
         assert_eq!(r.output, Some(PathBuf::from("out.png")));
         assert_eq!(r.settings.seed, 7);
-        assert_eq!(r.algorithm, AlgorithmArg::Pt);
+        assert_eq!(r.algorithm, Some(AlgorithmArg::Pt));
     }
 
     #[test]
@@ -415,7 +435,17 @@ mod tests {
         assert_eq!(r.scene, Some(PathBuf::from("scene.yml")));
         assert_eq!(r.settings.photons, Some(1000));
         assert_eq!(r.settings.direct, Some(DirectArg::Sampled));
-        assert_eq!(r.algorithm, AlgorithmArg::Ppm);
+        // Without -a: the scene's render.algorithm, else ppm.
+        assert_eq!(r.algorithm, None);
+        assert_eq!(AlgorithmArg::resolve(None, None), AlgorithmArg::Ppm);
+        assert_eq!(
+            AlgorithmArg::resolve(None, Some(Algorithm::Vcm)),
+            AlgorithmArg::Vcm
+        );
+        assert_eq!(
+            AlgorithmArg::resolve(Some(AlgorithmArg::Pt), Some(Algorithm::Vcm)),
+            AlgorithmArg::Pt
+        );
     }
 
     #[test]

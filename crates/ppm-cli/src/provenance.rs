@@ -84,6 +84,7 @@ fn algorithm_name(a: Algorithm) -> &'static str {
         Algorithm::Path => "pt",
         Algorithm::Ppm => "ppm",
         Algorithm::Sppm => "sppm",
+        Algorithm::Vcm => "vcm",
     }
 }
 

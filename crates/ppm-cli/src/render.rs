@@ -123,11 +123,35 @@ pub enum Outcome {
     Interrupted,
 }
 
+/// The options that depend on the algorithm: `--spp` (path tracing only; returns the
+/// iterations asked for) and `--aov` (photon mapping only).
+fn check_algorithm_options(args: &RenderArgs, algorithm: AlgorithmArg) -> Result<Option<u64>> {
+    let iterations = crate::report::requested_iterations(args, algorithm)?;
+    if !args.aov.is_empty() && algorithm == AlgorithmArg::Pt {
+        bail!(
+            "--aov {} needs photon mapping (-a ppm or -a sppm): the path tracer gathers no photons",
+            args.aov[0].name()
+        );
+    }
+    if !args.aov.is_empty() && algorithm == AlgorithmArg::Vcm {
+        bail!(
+            "--aov {} needs photon mapping (-a ppm or -a sppm): VCM merges with one radius for \
+             every pixel (the summary prints it) and weights its merges by MIS",
+            args.aov[0].name()
+        );
+    }
+    Ok(iterations)
+}
+
 /// `ppm [render] SCENE ...`: checks every input and output path, loads the scene, renders,
 /// writes the PNG and EXR and prints a summary.
 pub fn run(args: &RenderArgs, interrupt: &Interrupt) -> Result<Outcome> {
     crate::console::set_quiet(args.quiet);
-    let iterations = crate::report::requested_iterations(args)?;
+    // With `-a` given, its options are checked before anything else; without, once the
+    // scene (which may name the algorithm) is loaded.
+    if let Some(algorithm) = args.algorithm {
+        check_algorithm_options(args, algorithm)?;
+    }
     let scene_arg = args.scene.as_deref().context("no scene file given")?;
     let scene_path = setup::locate_scene(scene_arg)?;
     let paths = output::output_paths(args.output.as_deref(), &scene_path)?;
@@ -143,12 +167,6 @@ pub fn run(args: &RenderArgs, interrupt: &Interrupt) -> Result<Outcome> {
     if let Some(log) = &args.error_log {
         output::check_writable(log)?;
     }
-    if !args.aov.is_empty() && args.algorithm == AlgorithmArg::Pt {
-        bail!(
-            "--aov {} needs photon mapping (-a ppm or -a sppm): the path tracer gathers no photons",
-            args.aov[0].name()
-        );
-    }
     for aov in &args.aov {
         output::check_writable(&paths.aov(aov.name()))?;
     }
@@ -159,12 +177,14 @@ pub fn run(args: &RenderArgs, interrupt: &Interrupt) -> Result<Outcome> {
         .transpose()?;
 
     let (mut scene, scene_hash) = setup::load_scene_hashed(&scene_path)?;
+    let algorithm = AlgorithmArg::resolve(args.algorithm, scene.defaults.algorithm);
+    let iterations = check_algorithm_options(args, algorithm)?;
     setup::apply_resolution(
         &mut scene,
         &args.settings,
         reference.as_ref().map(|r| (r.width, r.height)),
     )?;
-    let settings = setup::render_settings(&scene, args.algorithm, &args.settings);
+    let settings = setup::render_settings(&scene, algorithm, &args.settings);
     memory::check(&scene, &settings)?;
     let camera = &scene.camera;
     let bounds = crate::crop::pixel_bounds(
@@ -252,7 +272,7 @@ pub fn run(args: &RenderArgs, interrupt: &Interrupt) -> Result<Outcome> {
             } else {
                 Renderer::with_bounds(&settings, bounds)
             };
-            let progress = Progress::new(&stop, args.algorithm.name());
+            let progress = Progress::new(&stop, algorithm.name());
             let totals = render_loop(
                 &scene,
                 &mut renderer,
@@ -325,7 +345,7 @@ pub fn run(args: &RenderArgs, interrupt: &Interrupt) -> Result<Outcome> {
     let summary = Summary {
         width: bounds.width(),
         height: bounds.height(),
-        algorithm: args.algorithm.name(),
+        algorithm: algorithm.name(),
         totals: &totals,
         rejected,
         render_state_bytes: state_bytes,

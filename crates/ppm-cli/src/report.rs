@@ -1,21 +1,21 @@
 //! What a render used, in words: the settings line of the summary (seed, photons, radius) and
 //! the `-v` lines printed before rendering.
 
-use crate::args::RenderArgs;
+use crate::args::{AlgorithmArg, RenderArgs};
 use anyhow::{bail, Result};
 use ppm_core::integrator::{Algorithm, DirectMode, Radius, RadiusSchedule, RenderSettings};
 use ppm_core::pixel_bounds::PixelBounds;
 use std::path::Path;
 
-/// The iterations a render asks for: `-n`, or `--spp` (path tracing only: one sample per
-/// pixel per iteration, so N samples per pixel are N iterations).
-pub fn requested_iterations(args: &RenderArgs) -> Result<Option<u64>> {
-    match (args.spp, args.algorithm.algorithm()) {
+/// The iterations a render with `algorithm` asks for: `-n`, or `--spp` (path tracing only:
+/// one sample per pixel per iteration, so N samples per pixel are N iterations).
+pub fn requested_iterations(args: &RenderArgs, algorithm: AlgorithmArg) -> Result<Option<u64>> {
+    match (args.spp, algorithm.algorithm()) {
         (None, _) => Ok(args.iterations),
         (Some(spp), Algorithm::Path) => Ok(Some(spp)),
-        (Some(_), Algorithm::Ppm | Algorithm::Sppm) => bail!(
+        (Some(_), Algorithm::Ppm | Algorithm::Sppm | Algorithm::Vcm) => bail!(
             "--spp is for the path tracer (-a pt), where it equals -n. Photon mapping (-a ppm) \
-             renders in iterations, each one camera path per pixel gathering a new photon map \
+             and VCM (-a vcm) render in iterations, each one camera path per pixel gathering a new photon map \
              with a smaller radius: give -n ITERATIONS instead"
         ),
     }
@@ -63,6 +63,13 @@ pub fn settings_line(settings: &RenderSettings, iterations: u64, threads: usize)
                 DirectMode::Sampled => "sampled",
             }
         ),
+        Algorithm::Vcm => format!(
+            "seed {}, one light path per pixel per iteration, merge radius {} (alpha {}), \
+             {common}",
+            settings.seed,
+            radius_words(settings, iterations),
+            settings.alpha,
+        ),
     }
 }
 
@@ -73,6 +80,7 @@ fn radius_words(settings: &RenderSettings, iterations: u64) -> String {
     match (settings.algorithm, settings.radius) {
         (Algorithm::Sppm, Radius::World(r)) => format!("{r} at the start, then per pixel"),
         (Algorithm::Sppm, Radius::Auto) => "auto (per pixel)".to_string(),
+        (Algorithm::Vcm, Radius::Auto) => format!("auto (median footprint), shrunk x1 -> x{last}"),
         (_, Radius::World(r)) => format!("{r} -> {last}"),
         (_, Radius::Auto) => format!("auto (per pixel), shrunk x1 -> x{last}"),
     }

@@ -56,11 +56,11 @@ fn refused(dir: &Path, args: &[&str]) -> String {
 }
 
 #[test]
-fn shards_merged_equal_a_single_render_for_pt_and_ppm_at_1_and_2_threads() {
+fn shards_merged_equal_a_single_render_for_pt_ppm_and_vcm_at_1_and_2_threads() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
     tiny_scene(d);
-    for algorithm in ["pt", "ppm"] {
+    for algorithm in ["pt", "ppm", "vcm"] {
         ok(
             d,
             &[
@@ -121,11 +121,11 @@ fn shards_merged_equal_a_single_render_for_pt_and_ppm_at_1_and_2_threads() {
 }
 
 #[test]
-fn resumed_render_equals_an_uninterrupted_one_for_pt_and_ppm() {
+fn resumed_render_equals_an_uninterrupted_one_for_pt_ppm_and_vcm() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
     tiny_scene(d);
-    for algorithm in ["pt", "ppm"] {
+    for algorithm in ["pt", "ppm", "vcm"] {
         let base = ["tiny.yml", "-a", algorithm, "--seed", "5"];
         ok(
             d,
@@ -212,6 +212,24 @@ fn a_checkpoint_of_a_killed_render_resumes_exactly() {
     let total = (done + 3).to_string();
     ok(d, &["tiny.yml", "-a", "ppm", "-n", &total, "-o", "whole"]);
     assert_same_image(d, "resumed", "whole", &format!("checkpoint at {done} + 3"));
+}
+
+/// A scene's `render.algorithm` is the default of `-a`: the render without `-a` is the one
+/// with `-a vcm`, and records its algorithm; `-a` overrides it.
+#[test]
+fn the_scene_may_name_the_algorithm() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let scene = common::TINY_SCENE.replace("render:\n", "render:\n  algorithm: vcm\n");
+    assert_ne!(scene, common::TINY_SCENE);
+    std::fs::write(d.join("named.yml"), scene).unwrap();
+    let base = ["named.yml", "-n", "2", "--seed", "4"];
+    ok(d, &[&base[..], &["-o", "default"]].concat());
+    ok(d, &[&base[..], &["-a", "vcm", "-o", "vcm"]].concat());
+    ok(d, &[&base[..], &["-a", "pt", "-o", "pt"]].concat());
+    assert_same_image(d, "default", "vcm", "render.algorithm: vcm without -a");
+    assert_eq!(attributes(&d.join("default.exr"))["ppm.algorithm"], "vcm");
+    assert_eq!(attributes(&d.join("pt.exr"))["ppm.algorithm"], "pt");
 }
 
 #[test]

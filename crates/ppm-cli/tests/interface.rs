@@ -425,9 +425,17 @@ fn aov_images_are_written_beside_the_render() {
             "{algorithm}: no photons"
         );
     }
-    let err = assert_fails(
-        &run(dir.path(), &["tiny.yml", "-a", "pt", "--aov", "photons"]),
-        1,
-    );
-    assert!(err.contains("--aov photons needs photon mapping"), "{err}");
+    for algorithm in ["pt", "vcm"] {
+        let err = assert_fails(
+            &run(
+                dir.path(),
+                &["tiny.yml", "-a", algorithm, "--aov", "photons"],
+            ),
+            1,
+        );
+        assert!(
+            err.contains("--aov photons needs photon mapping"),
+            "{algorithm}: {err}"
+        );
+    }
 }

@@ -9,7 +9,7 @@ use crate::SceneError;
 use glam::{Vec2, Vec3};
 
 /// Render defaults a scene file may carry (`render:` in scene format v1).
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, PartialEq)]
 pub struct RenderDefaults {
     /// Longest light or eye path, in bounces.
     pub max_depth: u32,
@@ -20,6 +20,26 @@ pub struct RenderDefaults {
     pub radius: Option<f32>,
     /// Radius reduction parameter of progressive photon mapping.
     pub alpha: f32,
+    /// The integrator the file asks for (`render.algorithm`); `None`: the front end's default.
+    pub algorithm: Option<crate::integrator::Algorithm>,
+}
+
+/// As derived, except that `algorithm` is left out when `None`: the scene fingerprint that
+/// saved renders record (`ppm_scene::content_hash`) hashes this text, and a scene that names
+/// no algorithm must keep the fingerprint it had before the field existed, so that its saved
+/// renders still resume and merge.
+impl std::fmt::Debug for RenderDefaults {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let mut s = f.debug_struct("RenderDefaults");
+        s.field("max_depth", &self.max_depth)
+            .field("photons", &self.photons)
+            .field("radius", &self.radius)
+            .field("alpha", &self.alpha);
+        if let Some(algorithm) = &self.algorithm {
+            s.field("algorithm", algorithm);
+        }
+        s.finish()
+    }
 }
 
 impl Default for RenderDefaults {
@@ -29,6 +49,7 @@ impl Default for RenderDefaults {
             photons: None,
             radius: None,
             alpha: 2.0 / 3.0,
+            algorithm: None,
         }
     }
 }

@@ -27,7 +27,12 @@ fn crop_window_pixels_equal_the_full_renders() {
         y1: 14,
         full_width: w,
     };
-    for algorithm in [Algorithm::Path, Algorithm::Ppm, Algorithm::Sppm] {
+    for algorithm in [
+        Algorithm::Path,
+        Algorithm::Ppm,
+        Algorithm::Sppm,
+        Algorithm::Vcm,
+    ] {
         let settings = RenderSettings {
             algorithm,
             seed: 11,

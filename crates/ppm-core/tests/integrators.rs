@@ -89,30 +89,55 @@ fn light_sampling_bsdf_sampling_and_mis_agree() {
 /// image means within 4 standard errors of their difference and within `tolerance`, and per
 /// pixel (see the callers for why a few pixels may differ).
 fn assert_ppm_matches_pt(scene: &Scene, pt_iterations: u32, ppm_iterations: u32, tolerance: f64) {
-    let pt = render_stats(
-        scene,
-        &RenderSettings {
-            seed: 1,
-            ..pt_settings(scene)
-        },
-        pt_iterations,
-    );
     let ppm_settings = RenderSettings {
         photons: 50_000,
         radius: Radius::World(0.04),
         seed: 2,
         ..RenderSettings::new(scene)
     };
-    let ppm = render_stats(scene, &ppm_settings, ppm_iterations);
+    assert_matches_pt(
+        scene,
+        pt_iterations,
+        &ppm_settings,
+        ppm_iterations,
+        tolerance,
+    );
+}
+
+/// [`assert_ppm_matches_pt`] for any estimator (`settings`, `iterations` of it) whose
+/// iterations are independent estimates; returns the relative difference of the image means,
+/// (other - pt) / pt.
+fn assert_matches_pt(
+    scene: &Scene,
+    pt_iterations: u32,
+    settings: &RenderSettings,
+    iterations: u32,
+    tolerance: f64,
+) -> f64 {
+    let pt = render_stats(
+        scene,
+        &RenderSettings {
+            seed: 1,
+            max_depth: settings.max_depth,
+            ..pt_settings(scene)
+        },
+        pt_iterations,
+    );
+    let ppm = render_stats(scene, settings, iterations);
     // Iterations are independent; the pixels of one photon-mapping iteration share a photon
     // map, so the standard error of the image mean comes from the spread of iteration means.
     let (a, b) = (pt.image_mean(), ppm.image_mean());
     let se = (pt.image_mean_se().powi(2) + ppm.image_mean_se().powi(2)).sqrt();
     assert!(
         (a - b).abs() < 4.0 * se,
-        "image means: pt {a} ppm {b}, se of difference {se}"
+        "image means: pt {a} {:?} {b}, se of difference {se}",
+        settings.algorithm
     );
-    assert!((a - b).abs() / a < tolerance, "image means: pt {a} ppm {b}");
+    assert!(
+        (a - b).abs() / a < tolerance,
+        "image means: pt {a} {:?} {b}",
+        settings.algorithm
+    );
     // Per pixel: photon mapping is consistent, not unbiased. Its remaining bias (brightening
     // within a radius of concave corners, where photons of the adjacent wall are gathered)
     // shows in a few pixels; an error in a factor or a pdf would move most of them.
@@ -125,6 +150,7 @@ fn assert_ppm_matches_pt(scene: &Scene, pt_iterations: u32, ppm_iterations: u32,
     );
     let mean_z2 = z.iter().map(|z| z * z).sum::<f64>() / z.len() as f64;
     assert!(mean_z2 < 1.5, "mean z^2 = {mean_z2}");
+    (b - a) / a
 }
 
 #[test]
@@ -140,6 +166,49 @@ fn ppm_glossy_handling_matches_path_tracing() {
     // sphere's glossy caustics make photon mapping noisier here (the standard error of its
     // image mean is about 1%), hence the 3% sanity bound next to the 4-sigma test.
     assert_ppm_matches_pt(&cornell(24, BoxContents::Glossy), 1500, 64, 0.03);
+}
+
+/// VCM's settings for the cross-checks: a merge radius of the photon mapper's.
+fn vcm_settings(scene: &Scene) -> RenderSettings {
+    RenderSettings {
+        radius: Radius::World(0.04),
+        seed: 2,
+        ..RenderSettings::for_algorithm(scene, Algorithm::Vcm)
+    }
+}
+
+#[test]
+fn vcm_furnace_converges_to_five() {
+    // Inside the sphere the light vertices within chord distance r of a point cover a cap of
+    // area exactly pi r^2 (Archimedes), and the radiance is uniform: merging is unbiased here,
+    // so every technique and every MIS weight is checked against the exact answer. With 256
+    // light paths, r = 0.03 leaves merging a small share (eta_VCM = pi r^2 N = 0.7), r = 0.3
+    // makes it the dominant technique (eta_VCM = 72).
+    let scene = furnace(0.8, 16);
+    for radius in [0.03, 0.3] {
+        let settings = RenderSettings {
+            max_depth: 100_000,
+            radius: Radius::World(radius),
+            ..vcm_settings(&scene)
+        };
+        let stats = render_stats(&scene, &settings, 128);
+        assert_uniform_image(&stats, 5.0, 5.0, &format!("vcm, radius {radius}"));
+    }
+}
+
+#[test]
+fn vcm_and_path_tracing_converge_to_the_same_image() {
+    // The diffuse box, the glass sphere's caustics (light tracing and merging carry them),
+    // and the glossy box (connections and merges weighted against the glossy lobe's pdfs).
+    for (contents, name, tolerance) in [
+        (BoxContents::Diffuse, "diffuse", 0.01),
+        (BoxContents::Glass, "glass", 0.01),
+        (BoxContents::Glossy, "glossy", 0.03),
+    ] {
+        let scene = cornell(24, contents);
+        let rel = assert_matches_pt(&scene, 1500, &vcm_settings(&scene), 400, tolerance);
+        eprintln!("vcm vs pt, {name} box: relative difference of image means {rel:+.2e}");
+    }
 }
 
 #[test]
@@ -185,7 +254,7 @@ fn first_hit_photons_carry_the_lights_power() {
 #[test]
 fn same_seed_same_image_at_any_thread_count() {
     let scene = cornell(12, BoxContents::Glass);
-    for algorithm in [Algorithm::Path, Algorithm::Ppm] {
+    for algorithm in [Algorithm::Path, Algorithm::Ppm, Algorithm::Vcm] {
         let settings = RenderSettings {
             algorithm,
             photons: 5_000,

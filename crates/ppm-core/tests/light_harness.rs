@@ -189,6 +189,33 @@ fn check_emitted_power(name: &str, light: &Light) {
     }
 }
 
+/// `pdf_emission` gives the densities each emission sample was drawn with (the same values,
+/// so bidirectional MIS weights use the densities of the sampler), and its direction density
+/// integrates to 1 over the sphere (Monte Carlo with uniform directions, 5 standard errors).
+fn check_pdf_emission(name: &str, light: &Light) {
+    let mut rng = Rng::new(seed(name), 5, 0);
+    let mut integral = Stats::default();
+    for _ in 0..SAMPLES {
+        let s = light.sample_emission(rng.uniform2(), rng.uniform2());
+        let (pdf_pos, pdf_dir) = light.pdf_emission(s.n, s.dir);
+        assert!(
+            (pdf_pos - s.pdf_pos).abs() <= 1e-6 * s.pdf_pos
+                && (pdf_dir - s.pdf_dir).abs() <= 1e-4 * s.pdf_dir + 1e-6,
+            "{name}: pdf_emission ({pdf_pos}, {pdf_dir}) vs sampled ({}, {})",
+            s.pdf_pos,
+            s.pdf_dir
+        );
+        let w = uniform_sphere(rng.uniform2());
+        integral.push(4.0 * PI * light.pdf_emission(s.n, w).1 as f64);
+    }
+    assert!(
+        (integral.mean() - 1.0).abs() <= 5.0 * integral.std_error() + 1e-6,
+        "{name}: the emission direction pdf integrates to {} +- {}",
+        integral.mean(),
+        integral.std_error()
+    );
+}
+
 /// `le` is Lambertian and one-sided: the same radiance toward every direction on the side the
 /// normal points to, zero on the other (and zero everywhere for a delta light); and the
 /// emission samples carry it: flux = le pi / pdf_pos (pi A Le with pdf_pos = 1/A).
@@ -243,6 +270,10 @@ macro_rules! light_harness {
                 #[test]
                 fn mean_emitted_flux_is_the_power() {
                     check_emitted_power(stringify!($name), &light());
+                }
+                #[test]
+                fn pdf_emission_matches_sample_emission() {
+                    check_pdf_emission(stringify!($name), &light());
                 }
                 #[test]
                 fn le_is_one_sided() {

@@ -37,7 +37,7 @@ fn mirror_sphere(resolution: u32) -> Scene {
 #[test]
 fn max_depth_is_bounded_in_a_mirror_box() {
     let scene = mirror_sphere(4);
-    for algorithm in [Algorithm::Path, Algorithm::Ppm] {
+    for algorithm in [Algorithm::Path, Algorithm::Ppm, Algorithm::Vcm] {
         let settings = RenderSettings {
             algorithm,
             max_depth: 100_000,
@@ -49,11 +49,12 @@ fn max_depth_is_bounded_in_a_mirror_box() {
         let pixels = 16u64;
         // Photon mapping adds its light paths, and with the default `auto` radius the first
         // iteration's pilot pass (one path per pixel, bounded like an eye path).
+        // VCM traces one light path per pixel, and the same pilot pass.
         let bound = pixels * (MAX_DEPTH as u64 + 1)
-            + if algorithm == Algorithm::Ppm {
-                64 * MAX_DEPTH as u64 + pixels * (MAX_DEPTH as u64 + 1)
-            } else {
-                0
+            + match algorithm {
+                Algorithm::Ppm => 64 * MAX_DEPTH as u64 + pixels * (MAX_DEPTH as u64 + 1),
+                Algorithm::Vcm => pixels * MAX_DEPTH as u64 + pixels * (MAX_DEPTH as u64 + 1),
+                _ => 0,
             };
         assert!(
             stats.rays <= bound && stats.rays >= pixels * MAX_DEPTH as u64,
@@ -69,7 +70,12 @@ fn max_depth_is_bounded_in_a_mirror_box() {
 #[test]
 fn an_abandoned_iteration_leaves_no_trace() {
     let scene = cornell(24, BoxContents::Diffuse);
-    for algorithm in [Algorithm::Path, Algorithm::Ppm, Algorithm::Sppm] {
+    for algorithm in [
+        Algorithm::Path,
+        Algorithm::Ppm,
+        Algorithm::Sppm,
+        Algorithm::Vcm,
+    ] {
         let settings = RenderSettings {
             algorithm,
             photons: 5000,
@@ -112,11 +118,16 @@ fn an_abandoned_iteration_leaves_no_trace() {
 
 /// Each integrator states what it will allocate: at least what it holds after an iteration
 /// (the photon buffer did not need to grow in this box), and the photon part only for
-/// photon mapping.
+/// photon mapping and VCM (its light vertices).
 #[test]
 fn memory_estimates_cover_what_the_integrators_allocate() {
     let scene = cornell(32, BoxContents::Diffuse);
-    for algorithm in [Algorithm::Path, Algorithm::Ppm, Algorithm::Sppm] {
+    for algorithm in [
+        Algorithm::Path,
+        Algorithm::Ppm,
+        Algorithm::Sppm,
+        Algorithm::Vcm,
+    ] {
         let settings = RenderSettings {
             algorithm,
             photons: 20_000,
@@ -132,7 +143,10 @@ fn memory_estimates_cover_what_the_integrators_allocate() {
             estimate.total()
         );
         let photons = estimate.items.iter().any(|i| i.part == MemoryPart::Photons);
-        assert_eq!(photons, algorithm == Algorithm::Ppm);
+        assert_eq!(
+            photons,
+            matches!(algorithm, Algorithm::Ppm | Algorithm::Vcm)
+        );
     }
     // The largest requests do not overflow and name their part.
     let huge = RenderSettings {

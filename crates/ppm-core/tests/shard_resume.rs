@@ -10,7 +10,7 @@ use ppm_core::prelude::*;
 use ppm_core::StateError;
 use test_scenes::{cornell, BoxContents};
 
-const ALGORITHMS: [Algorithm; 2] = [Algorithm::Path, Algorithm::Ppm];
+const ALGORITHMS: [Algorithm; 3] = [Algorithm::Path, Algorithm::Ppm, Algorithm::Vcm];
 
 fn settings(scene: &Scene, algorithm: Algorithm) -> RenderSettings {
     RenderSettings {

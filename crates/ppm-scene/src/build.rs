@@ -3,12 +3,14 @@
 
 use crate::error::LoadError;
 use crate::obj::{self, ObjMaterials};
-use crate::yaml::{LightType, MaterialDesc, MaterialType, ObjectDesc, ObjectType, SceneFile};
+use crate::yaml::{
+    AlgorithmName, LightType, MaterialDesc, MaterialType, ObjectDesc, ObjectType, SceneFile,
+};
 use glam::Vec3;
 use ppm_core::bsdf::Bsdf;
 use ppm_core::camera::Camera;
 use ppm_core::geometry::{Sphere, TriangleMesh};
-use ppm_core::integrator::MAX_DEPTH;
+use ppm_core::integrator::{Algorithm, MAX_DEPTH};
 use ppm_core::light::PointLight;
 use ppm_core::material::Material;
 use ppm_core::scene::{RenderDefaults, SceneBuilder};
@@ -140,6 +142,14 @@ pub fn build(
         }
         if let Some(a) = r.alpha {
             defaults.alpha = a.0;
+        }
+        if let Some(a) = r.algorithm {
+            defaults.algorithm = Some(match a {
+                AlgorithmName::Pt => Algorithm::Path,
+                AlgorithmName::Ppm => Algorithm::Ppm,
+                AlgorithmName::Sppm => Algorithm::Sppm,
+                AlgorithmName::Vcm => Algorithm::Vcm,
+            });
         }
     }
     builder.defaults = defaults;

@@ -113,6 +113,17 @@ pub struct RenderDesc {
     pub photons: Option<Count>,
     pub radius: Option<GatherRadius>,
     pub alpha: Option<Num<Alpha>>,
+    pub algorithm: Option<AlgorithmName>,
+}
+
+/// `render.algorithm`: the integrator, named as on the command line (`-a`).
+#[derive(Deserialize, Clone, Copy, Debug, PartialEq, Eq)]
+#[serde(rename_all = "lowercase")]
+pub enum AlgorithmName {
+    Pt,
+    Ppm,
+    Sppm,
+    Vcm,
 }
 
 /// A seed that rejects the definition of a material name seen before.

@@ -509,6 +509,28 @@ fn optional_parts_have_documented_defaults() {
 }
 
 #[test]
+fn render_algorithm_names_an_integrator_as_the_command_line_does() {
+    use ppm_core::integrator::Algorithm;
+    let algorithm = |value: &str| {
+        parse_scene(
+            &format!("{VALID}render: {{ algorithm: {value} }}\n"),
+            Path::new("d.yml"),
+        )
+        .map(|(b, _)| b.defaults.algorithm)
+    };
+    for (name, expected) in [
+        ("pt", Algorithm::Path),
+        ("ppm", Algorithm::Ppm),
+        ("sppm", Algorithm::Sppm),
+        ("vcm", Algorithm::Vcm),
+    ] {
+        assert_eq!(algorithm(name).unwrap(), Some(expected), "{name}");
+    }
+    let e = error(&format!("{VALID}render: {{ algorithm: mlt }}\n"));
+    has(&e, &["dir/bad.yml:9:", "render.algorithm", "vcm"]);
+}
+
+#[test]
 fn render_radius_is_a_number_or_auto() {
     let radius = |value: &str| {
         parse_scene(

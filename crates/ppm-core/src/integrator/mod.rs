@@ -1,5 +1,5 @@
-//! Integrators: the path tracer, progressive photon mapping and its stochastic variant, behind
-//! one [`Renderer`].
+//! Integrators: the path tracer, progressive photon mapping and its stochastic variant, and
+//! vertex connection and merging, behind one [`Renderer`].
 //!
 //! A render is a sequence of iterations; after each one the image (the average of all
 //! iteration estimates) is a valid result, so a render can stop at any iteration.
@@ -15,6 +15,7 @@ mod settings;
 mod shading;
 mod snapshot;
 mod sppm;
+mod vcm;
 
 pub use camera_path::CameraPath;
 pub use camera_walk::{
@@ -39,6 +40,7 @@ pub use settings::{
 pub use shading::ShadingFrame;
 pub use snapshot::{PixelChannel, Snapshot};
 pub use sppm::{PixelStatistics, SplatPoint, SppmRenderer};
+pub use vcm::VcmRenderer;
 
 use crate::film::Image;
 use crate::pixel_bounds::PixelBounds;
@@ -118,6 +120,7 @@ pub enum Renderer {
     /// Boxed: its photon buffer and grid make it several times the path tracer's size.
     Ppm(Box<PpmRenderer>),
     Sppm(Box<SppmRenderer>),
+    Vcm(Box<VcmRenderer>),
 }
 
 impl Renderer {
@@ -139,6 +142,9 @@ impl Renderer {
                 settings.clone(),
                 bounds,
             ))),
+            Algorithm::Vcm => {
+                Renderer::Vcm(Box::new(VcmRenderer::with_bounds(settings.clone(), bounds)))
+            }
         }
     }
 
@@ -149,6 +155,7 @@ impl Renderer {
             Algorithm::Path => PathTracer::memory_estimate(w, h, settings),
             Algorithm::Ppm => PpmRenderer::memory_estimate(w, h, settings),
             Algorithm::Sppm => SppmRenderer::memory_estimate(w, h, settings),
+            Algorithm::Vcm => VcmRenderer::memory_estimate(w, h, settings),
         }
     }
 
@@ -175,6 +182,11 @@ impl Renderer {
                 settings.clone(),
                 snapshot,
             )?)),
+            Algorithm::Vcm => Renderer::Vcm(Box::new(VcmRenderer::from_snapshot(
+                scene,
+                settings.clone(),
+                snapshot,
+            )?)),
         })
     }
 
@@ -184,6 +196,7 @@ impl Renderer {
             Renderer::Path(r) => r.snapshot(),
             Renderer::Ppm(r) => r.snapshot(),
             Renderer::Sppm(r) => r.snapshot(),
+            Renderer::Vcm(r) => r.snapshot(),
         }
     }
 
@@ -209,6 +222,7 @@ impl Renderer {
             Renderer::Path(r) => r.iterate_until(scene, stop),
             Renderer::Ppm(r) => r.iterate_until(scene, stop),
             Renderer::Sppm(r) => r.iterate_until(scene, stop),
+            Renderer::Vcm(r) => r.iterate_until(scene, stop),
         }
     }
 
@@ -218,6 +232,7 @@ impl Renderer {
             Renderer::Path(r) => r.film().image(),
             Renderer::Ppm(r) => r.film().image(),
             Renderer::Sppm(r) => r.image(),
+            Renderer::Vcm(r) => r.film().image(),
         }
     }
 
@@ -228,6 +243,7 @@ impl Renderer {
             Renderer::Path(r) => r.last_estimates(),
             Renderer::Ppm(r) => r.last_estimates(),
             Renderer::Sppm(r) => r.last_estimates(),
+            Renderer::Vcm(r) => r.last_estimates(),
         }
     }
 
@@ -237,6 +253,7 @@ impl Renderer {
             Renderer::Path(r) => r.film().first_iteration(),
             Renderer::Ppm(r) => r.film().first_iteration(),
             Renderer::Sppm(r) => r.first_iteration(),
+            Renderer::Vcm(r) => r.film().first_iteration(),
         }
     }
 
@@ -246,6 +263,7 @@ impl Renderer {
             Renderer::Path(r) => r.film().iterations(),
             Renderer::Ppm(r) => r.film().iterations(),
             Renderer::Sppm(r) => r.iterations(),
+            Renderer::Vcm(r) => r.film().iterations(),
         }
     }
 
@@ -255,6 +273,7 @@ impl Renderer {
             Renderer::Path(r) => r.film().rejected(),
             Renderer::Ppm(r) => r.film().rejected(),
             Renderer::Sppm(r) => r.rejected(),
+            Renderer::Vcm(r) => r.film().rejected(),
         }
     }
 
@@ -265,26 +284,28 @@ impl Renderer {
             Renderer::Path(r) => r.film().first_rejected(),
             Renderer::Ppm(r) => r.film().first_rejected(),
             Renderer::Sppm(r) => r.first_rejected(),
+            Renderer::Vcm(r) => r.film().first_rejected(),
         }
     }
 
-    /// The gather radius of every pixel in the last iteration (photon mapping; `None` for
-    /// the path tracer or before the first iteration), as a grey image.
+    /// The gather radius of every pixel in the last iteration (photon mapping; `None` for the
+    /// path tracer, VCM (one merge radius: [`VcmRenderer::last_radius`]) or before the first
+    /// iteration), as a grey image.
     pub fn radius_image(&self) -> Option<Image> {
         match self {
-            Renderer::Path(_) => None,
+            Renderer::Path(_) | Renderer::Vcm(_) => None,
             Renderer::Ppm(r) => r.radius_image(),
             Renderer::Sppm(r) => Some(r.radius_image()),
         }
     }
 
     /// How many photons each pixel's estimate rests on, as a grey image (photon mapping; `None`
-    /// for the path tracer or before the first iteration): for `sppm` its accumulated count N,
+    /// for the path tracer, VCM or before the first iteration): for `sppm` its accumulated count N,
     /// for `ppm` the last iteration's photons within its radius at its first diffuse visible
     /// point ([`PpmRenderer::photon_count_image`]).
     pub fn photon_count_image(&self, scene: &Scene) -> Option<Image> {
         match self {
-            Renderer::Path(_) => None,
+            Renderer::Path(_) | Renderer::Vcm(_) => None,
             Renderer::Ppm(r) => r.photon_count_image(scene),
             Renderer::Sppm(r) => Some(r.photon_count_image()),
         }
@@ -296,6 +317,7 @@ impl Renderer {
             Renderer::Path(r) => r.memory_bytes(),
             Renderer::Ppm(r) => r.memory_bytes(),
             Renderer::Sppm(r) => r.memory_bytes(),
+            Renderer::Vcm(r) => r.memory_bytes(),
         }
     }
 }

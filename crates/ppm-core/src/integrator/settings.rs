@@ -19,6 +19,9 @@ pub enum Algorithm {
     /// Stochastic progressive photon mapping (`-a sppm`): per-pixel radii and statistics,
     /// photons splatted into the camera paths' visible points and never stored.
     Sppm,
+    /// Vertex connection and merging (`-a vcm`, Georgiev et al. 2012): bidirectional path
+    /// tracing and photon mapping combined by MIS; one light subpath per pixel per iteration.
+    Vcm,
 }
 
 /// Light paths per photon-mapping iteration when neither the scene nor the command line
@@ -81,25 +84,27 @@ pub struct RenderSettings {
     pub rr_depth: u32,
     /// Path tracer: how light is found.
     pub light_strategy: LightStrategy,
-    /// Photon mapping: light paths per iteration.
+    /// Photon mapping: light paths per iteration (VCM traces one per pixel and ignores it).
     pub photons: u32,
-    /// Photon mapping: initial gather radius (scene units, or per pixel from its footprint).
+    /// Photon mapping: initial gather radius (scene units, or per pixel from its footprint);
+    /// VCM: initial merge radius (scene units, or `auto`: the median pixel footprint).
     pub radius: Radius,
-    /// Photon mapping: radius reduction r_{i+1}^2 = r_i^2 (i + alpha) / (i + 1).
+    /// Photon mapping and VCM: radius reduction r_{i+1}^2 = r_i^2 (i + alpha) / (i + 1).
     pub alpha: f32,
     /// Photon mapping: direct light from photons or from light sampling.
     pub direct: DirectMode,
 }
 
 impl RenderSettings {
-    /// Defaults, taking what the scene file says where it says anything. Without a radius in
+    /// Defaults, taking what the scene file says where it says anything (the algorithm:
+    /// `ppm` unless the file names one). Without a radius in
     /// the scene the initial radius is [`Radius::Auto`]: a few pixel footprints at each pixel's
     /// visible point, which depends neither on the scene's units nor on its extent. alpha
     /// defaults to 2/3, the asymptotically best value for surfaces (Knaus and Zwicker 2011).
     pub fn new(scene: &Scene) -> Self {
         let d = scene.defaults;
         RenderSettings {
-            algorithm: Algorithm::Ppm,
+            algorithm: d.algorithm.unwrap_or(Algorithm::Ppm),
             seed: 0,
             max_depth: d.max_depth,
             rr_depth: 3,

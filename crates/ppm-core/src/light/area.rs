@@ -80,6 +80,13 @@ pub(super) fn pdf_direct(area: f32, p: Vec3, q: Vec3, n: Vec3) -> f32 {
     solid_angle_pdf(area, dist2, -wi.dot(n))
 }
 
+/// The solid-angle pdf cos/pi with which [`Emitter::sample_emission`] leaves along `w` from a
+/// point with emitting normal `n`; 0 behind the light.
+#[inline]
+pub(super) fn pdf_emission_dir(n: Vec3, w: Vec3) -> f32 {
+    n.dot(w).max(0.0) / PI
+}
+
 /// Lambertian one-sided emission: `le` toward `w` when `n . w > 0`, else zero.
 #[inline]
 pub(super) fn le(le: Vec3, n: Vec3, w: Vec3) -> Vec3 {

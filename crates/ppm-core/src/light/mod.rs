@@ -173,6 +173,21 @@ impl Light {
         }
     }
 
+    /// The densities with which [`Light::sample_emission`] produces a light path leaving
+    /// the point with emitting normal `n` in unit direction `w`: (area pdf of the point, solid-
+    /// angle pdf of the direction), not counting the choice of the light. Area lights:
+    /// (1/A, max(0, n . w)/pi); point lights: (1, 1/(4 pi)) (`n` is ignored). Bidirectional
+    /// estimators need them for the paths that other strategies found (the reverse pdfs of
+    /// vertex connection and merging, Georgiev et al. 2012).
+    #[inline]
+    pub fn pdf_emission(&self, n: Vec3, w: Vec3) -> (f32, f32) {
+        match self {
+            Light::Triangle(light) => (1.0 / light.area, area::pdf_emission_dir(n, w)),
+            Light::Sphere(light) => (1.0 / light.sphere.area(), area::pdf_emission_dir(n, w)),
+            Light::Point(_) => (1.0, point::PDF_EMISSION_DIR),
+        }
+    }
+
     /// The ray that leaves an emission sample.
     pub(crate) fn emission_ray(s: &EmissionSample) -> Ray {
         if s.n == Vec3::ZERO {

@@ -5,6 +5,9 @@ use crate::sampling::uniform_sphere;
 use glam::{Vec2, Vec3};
 use std::f32::consts::PI;
 
+/// The solid-angle pdf of a point light's emission direction (uniform on the sphere).
+pub(super) const PDF_EMISSION_DIR: f32 = 1.0 / (4.0 * PI);
+
 /// A point light without geometry: radiant intensity `intensity` (W/sr) in every direction.
 #[derive(Clone, Copy, Debug)]
 pub struct PointLight {
@@ -44,7 +47,7 @@ impl PointLight {
     #[inline]
     pub(super) fn sample_emission(&self, u_dir: Vec2) -> EmissionSample {
         let dir = uniform_sphere(u_dir);
-        let pdf_dir = 1.0 / (4.0 * PI);
+        let pdf_dir = PDF_EMISSION_DIR;
         EmissionSample {
             ray_origin: self.position,
             n: Vec3::ZERO,

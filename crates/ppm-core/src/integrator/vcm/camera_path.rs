@@ -1,0 +1,263 @@
+//! The camera subpaths of VCM and the estimators evaluated at their vertices: emission found
+//! by the path, next-event estimation, connection to the light subpath paired with the pixel,
+//! and merging with the light vertices within the radius.
+
+use super::mis::{mis, MisConstants, SubpathMis};
+use super::vertex::{LightVertex, SurfaceVertex};
+use crate::bsdf::{Lobe, TransportMode};
+use crate::geometry::Ray;
+use crate::integrator::camera_path::start_pixel_path;
+use crate::integrator::camera_walk::RayCounters;
+use crate::photon::HashGrid;
+use crate::sampling::Rng;
+use crate::scene::Scene;
+use glam::Vec3;
+
+/// Random streams of VCM's camera subpaths, apart from every other pass's.
+pub(super) const CAMERA_STREAM: u64 = 0x7663_6d5f_6361_6d65;
+
+/// Everything a camera subpath reads: the iteration's light vertices and their grid.
+pub(super) struct CameraPass<'a> {
+    pub scene: &'a Scene,
+    pub seed: u64,
+    pub iteration: u64,
+    /// Most edges of a full path (max_depth + 1).
+    pub max_edges: u32,
+    pub rr_depth: u32,
+    pub mis: MisConstants,
+    pub radius: f32,
+    pub grid: &'a HashGrid,
+    /// Every light subpath's stored vertices, path after path, in order of their edges.
+    pub vertices: &'a [LightVertex],
+    /// Light path i's vertices are `vertices[path_start[i]..path_start[i + 1]]`.
+    pub path_start: &'a [u32],
+}
+
+/// The camera vertex and the subpath state the estimators at it read.
+struct CameraVertex<'v> {
+    v: &'v SurfaceVertex,
+    state: &'v SubpathMis,
+    /// Edges from the camera to this vertex (1 at the first hit).
+    edges: u32,
+}
+
+impl CameraPass<'_> {
+    /// The estimate of pixel `pixel` (row-major in the full image) in this iteration: the
+    /// camera subpath through a uniform point of the pixel, paired with light subpath
+    /// `pixel`. Camera subpaths scatter by BSDF sampling in radiance mode with the path
+    /// tracer's Russian roulette (after `rr_depth` bounces, survival min(1, max channel of the
+    /// throughput)).
+    pub fn pixel(&self, pixel: usize, counters: &mut RayCounters) -> Vec3 {
+        let scene = self.scene;
+        let camera = &scene.camera;
+        let width = camera.width as usize;
+        let (mut rng, mut ray) = start_pixel_path(
+            scene,
+            self.seed ^ CAMERA_STREAM,
+            self.iteration,
+            pixel,
+            width,
+        );
+        let c = &self.mis;
+        let cos = ray.dir.dot(camera.forward());
+        let mut state = SubpathMis::camera_start(camera.pixel_direction_pdf(cos), c);
+        let mut throughput = Vec3::ONE;
+        let mut result = Vec3::ZERO;
+        let mut edges = 0;
+        while edges < self.max_edges {
+            counters.rays += 1;
+            let Some(hit) = scene.intersect(&ray) else {
+                break;
+            };
+            edges += 1;
+            let material = scene.material(&hit);
+            let v = SurfaceVertex::new(hit, material.bsdf, -ray.dir);
+            if !state.arrive(hit.t * hit.t, v.cos_wo()) {
+                break;
+            }
+            let x = CameraVertex {
+                v: &v,
+                state: &state,
+                edges,
+            };
+            if material.is_emissive() && v.wo.dot(hit.ng) > 0.0 {
+                result += throughput * material.emission * self.emission_weight(&x);
+            }
+            if !v.bsdf.is_delta() {
+                result += throughput * self.direct(&x, &mut rng, counters);
+                result += throughput * self.connect(&x, pixel, counters);
+                result += throughput * self.merge(&x);
+            }
+            if edges + 1 > self.max_edges {
+                break;
+            }
+            let (u_lobe, u) = (rng.uniform(), rng.uniform2());
+            let Some(s) = v.bsdf.sample(v.sf.wo, u_lobe, u, TransportMode::Radiance) else {
+                break;
+            };
+            let wi = v.sf.frame.to_world(s.wi);
+            if !v.sf.consistent(&hit, v.wo, wi, s.wi) {
+                break;
+            }
+            let specular = s.lobe == Lobe::Specular;
+            let pdf_reverse = if specular {
+                s.pdf
+            } else {
+                v.bsdf.pdf(s.wi, v.sf.wo)
+            };
+            state.scatter(specular, s.wi.z.abs(), s.pdf, pdf_reverse, c);
+            throughput *= s.weight;
+            if edges >= self.rr_depth {
+                let survive = throughput.max_element().min(1.0);
+                if survive.is_nan() || rng.uniform() >= survive {
+                    break;
+                }
+                throughput /= survive;
+            }
+            ray = Ray::spawn(hit.p, hit.ng, wi);
+        }
+        result
+    }
+
+    /// The MIS weight of emission the camera subpath hits at `x` (TR eqs. 42-43): 1 when seen
+    /// directly (no other technique sees it); otherwise the light subpath could have
+    /// produced the emitting vertex x_k by choosing the light and its point (area pdf
+    /// p_A = p_light / A: next-event estimation) or by emitting toward x_{k-1} (p_A p_W with
+    /// p_W = cos/pi), so w_camera = mis(p_A) dVCM + mis(p_A p_W) dVC, weight 1 / (1 + w_camera).
+    #[inline]
+    fn emission_weight(&self, x: &CameraVertex) -> f32 {
+        if x.edges == 1 {
+            return 1.0;
+        }
+        let hit = &x.v.hit;
+        let Some((light, p_light)) = self.scene.light_of_prim(hit.prim) else {
+            return 1.0;
+        };
+        let (pdf_pos, pdf_dir) = light.pdf_emission(hit.ng, x.v.wo);
+        let direct_pdf_area = p_light * pdf_pos;
+        let w_camera =
+            mis(direct_pdf_area) * x.state.dvcm + mis(direct_pdf_area * pdf_dir) * x.state.dvc;
+        1.0 / (1.0 + w_camera)
+    }
+
+    /// Next-event estimation, a vertex connection to a light (TR eqs. 44-45): one light
+    /// chosen in proportion to power (p_light), a point on it with solid-angle pdf p_W
+    /// (`DirectSample::pdf`; a delta of weight I/d^2 for point lights):
+    ///
+    /// L = f(wo, wi) |cos wi| L_e / (p_light p_W) w,
+    ///
+    /// w_light = mis(p_bsdf(wi) / (p_light p_W)) (0 for point lights, which the camera
+    /// subpath cannot hit), w_camera = mis(p_e(-wi) |cos wi| / d^2) (mis(eta_VCM) + dVCM +
+    /// dVC mis(p_rev)), with p_e the light's emission direction pdf toward the vertex (the
+    /// light subpath reaching the vertex, as an area density there) and p_rev the pdf at the
+    /// vertex of the direction back along the camera subpath given wi.
+    #[inline]
+    fn direct(&self, x: &CameraVertex, rng: &mut Rng, counters: &mut RayCounters) -> Vec3 {
+        let (u_light, u) = (rng.uniform(), rng.uniform2());
+        if x.edges + 1 > self.max_edges {
+            return Vec3::ZERO;
+        }
+        let scene = self.scene;
+        let Some((light, p_light)) = scene.choose_light(u_light) else {
+            return Vec3::ZERO;
+        };
+        let hit = &x.v.hit;
+        let Some(ls) = light.sample_direct(hit.p, u) else {
+            return Vec3::ZERO;
+        };
+        let Some(e) = x.v.eval(ls.wi, TransportMode::Radiance) else {
+            return Vec3::ZERO;
+        };
+        let (_, pdf_emit_dir) = light.pdf_emission(ls.n, -ls.wi);
+        let pdf_light = p_light * ls.pdf;
+        let c = &self.mis;
+        let w_light = if ls.is_delta {
+            0.0
+        } else {
+            mis(e.pdf_forward / pdf_light)
+        };
+        let w_camera = mis(pdf_emit_dir * e.cos / (ls.dist * ls.dist))
+            * (c.vm_weight + x.state.dvcm + x.state.dvc * mis(e.pdf_reverse));
+        let weight = 1.0 / (w_light + 1.0 + w_camera);
+        counters.shadow_rays += 1;
+        if scene.occluded(&Ray::spawn_to(hit.p, hit.ng, ls.p, ls.n)) {
+            return Vec3::ZERO;
+        }
+        e.f_cos * ls.li * (weight / pdf_light)
+    }
+
+    /// Vertex connection of `x` to each stored vertex y of light subpath `path` (TR eqs.
+    /// 40-41), as long as the full path has at most `max_edges` edges:
+    ///
+    /// C = T_y f_y(-> x) f_x(-> y) G(x, y) w, G = |cos_x| |cos_y| / d^2,
+    ///
+    /// w_light = mis(p_x(-> y) |cos_y| / d^2) (mis(eta_VCM) + dVCM_y + dVC_y mis(p_y,rev)),
+    /// w_camera = mis(p_y(-> x) |cos_x| / d^2) (mis(eta_VCM) + dVCM_x + dVC_x mis(p_x,rev)):
+    /// the camera subpath extended to y and the light subpath extended to x, in area measure.
+    #[inline]
+    fn connect(&self, x: &CameraVertex, path: usize, counters: &mut RayCounters) -> Vec3 {
+        let range = self.path_start[path] as usize..self.path_start[path + 1] as usize;
+        let c = &self.mis;
+        let hit = &x.v.hit;
+        let mut sum = Vec3::ZERO;
+        for y in &self.vertices[range] {
+            if x.edges + y.edges + 1 > self.max_edges {
+                break;
+            }
+            let to_y = y.vertex.hit.p - hit.p;
+            let dist2 = to_y.length_squared();
+            if dist2.is_nan() || dist2 <= 0.0 {
+                continue;
+            }
+            let w = to_y / dist2.sqrt();
+            let Some(ex) = x.v.eval(w, TransportMode::Radiance) else {
+                continue;
+            };
+            let Some(ey) = y.vertex.eval(-w, TransportMode::Importance) else {
+                continue;
+            };
+            let camera_pdf_area = ex.pdf_forward * ey.cos / dist2;
+            let light_pdf_area = ey.pdf_forward * ex.cos / dist2;
+            let w_light =
+                mis(camera_pdf_area) * (c.vm_weight + y.mis.dvcm + y.mis.dvc * mis(ey.pdf_reverse));
+            let w_camera = mis(light_pdf_area)
+                * (c.vm_weight + x.state.dvcm + x.state.dvc * mis(ex.pdf_reverse));
+            let weight = 1.0 / (w_light + 1.0 + w_camera);
+            counters.shadow_rays += 1;
+            let shadow = Ray::spawn_to(hit.p, hit.ng, y.vertex.hit.p, y.vertex.hit.ng);
+            if self.scene.occluded(&shadow) {
+                continue;
+            }
+            sum += y.throughput * ex.f_cos * ey.f_cos * (weight / dist2);
+        }
+        sum
+    }
+
+    /// Vertex merging of `x` with every light vertex y within the radius r (TR eqs. 38-39),
+    /// as long as the full path has at most `max_edges` edges: the density estimate with a
+    /// uniform kernel over the disc, averaged over the N_light light subpaths,
+    ///
+    /// M = 1 / (pi r^2 N_light) sum_y f_x(wo, wi_y) T_y w_y,
+    ///
+    /// w_light = dVCM_y mis(1/eta_VCM) + dVM_y mis(p_x(wo -> wi_y)),
+    /// w_camera = dVCM_x mis(1/eta_VCM) + dVM_x mis(p_x(wi_y -> wo)).
+    #[inline]
+    fn merge(&self, x: &CameraVertex) -> Vec3 {
+        let c = &self.mis;
+        let mut sum = Vec3::ZERO;
+        self.grid
+            .for_each_in_radius(x.v.hit.p, self.radius, |photon, _| {
+                let y = &self.vertices[photon.path as usize];
+                if x.edges + y.edges > self.max_edges {
+                    return;
+                }
+                let Some(e) = x.v.eval(y.vertex.wo, TransportMode::Radiance) else {
+                    return;
+                };
+                let w_light = y.mis.dvcm * c.vc_weight + y.mis.dvm * mis(e.pdf_forward);
+                let w_camera = x.state.dvcm * c.vc_weight + x.state.dvm * mis(e.pdf_reverse);
+                sum += e.f * y.throughput / (w_light + 1.0 + w_camera);
+            });
+        sum * c.vm_normalization
+    }
+}

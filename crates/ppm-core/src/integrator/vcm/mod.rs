@@ -1,0 +1,365 @@
+//! Vertex connection and merging (Georgiev, Krivanek, Davidovic, Slusallek 2012, "Light
+//! transport simulation with vertex connection and merging", SIGGRAPH Asia), as its technical
+//! report ("Implementing vertex connection and merging", Georgiev 2012) and SmallVCM describe
+//! it: bidirectional path tracing and photon mapping combined by multiple importance
+//! sampling. See docs/vcm.md for the estimators together.
+//!
+//! One iteration:
+//! 1. the light pass ([`light_path`]): one light subpath per pixel of the full image
+//!    (N_light = width x height), its non-delta vertices stored and connected to the camera;
+//!    those contributions are splatted into exact fixed-point sums ([`SplatBuffer`]) in path
+//!    order, so the image does not depend on the thread count;
+//! 2. a hash grid over the light vertices, built for the iteration's merge radius r_i;
+//! 3. the camera pass ([`camera_path`]): per pixel, a camera subpath paired with the light
+//!    subpath of the same index, with emission, next-event estimation, connections to that
+//!    light subpath's vertices and merging with every light vertex within r_i, each weighted
+//!    by the recursive MIS of [`mis`];
+//! 4. the pixel's estimate is its camera-pass estimate plus its splats; the film averages the
+//!    iterations, and the radius shrinks.
+//!
+//! Radius: r_i follows progressive photon mapping's schedule (Knaus and Zwicker 2011,
+//! r_{i+1}^2 = r_i^2 (i + alpha) / (i + 1), [`RadiusSchedule`]), which shrinks as
+//! i^((alpha - 1) / 2) like the VCM paper's r_i = r_1 i^((alpha - 1) / 2) (sec. 5) up to a
+//! constant factor. r_1 is `--radius` in scene units, or with `auto` the median of the
+//! pixels' footprint radii ([`pilot_radii`]): VCM merges at every non-delta camera vertex,
+//! not only the first, so it needs one radius for the whole grid. `--photons` is not used:
+//! the light subpaths are one per pixel, as in the paper and SmallVCM.
+
+mod camera_path;
+mod light_path;
+mod mis;
+mod vertex;
+
+use super::camera_walk::RayCounters;
+use super::footprint::{pilot_radii, quantile};
+use super::{
+    image_bytes, IterationStats, MemoryEstimate, MemoryPart, PassTimes, Radius, RadiusSchedule,
+    RenderSettings, Snapshot, Stopwatch, BYTES_PER_PHOTON, MAX_DEPTH, PHOTONS_PER_PATH,
+};
+use crate::film::{Film, SplatBuffer};
+use crate::photon::{HashGrid, Photon};
+use crate::pixel_bounds::PixelBounds;
+use crate::scene::Scene;
+use crate::StateError;
+use camera_path::CameraPass;
+use glam::Vec3;
+use light_path::{trace_light_subpath, LightPathParams, Splat};
+use mis::MisConstants;
+use rayon::prelude::*;
+use std::sync::atomic::{AtomicBool, Ordering};
+use vertex::LightVertex;
+
+/// Light subpaths per parallel work item of the light pass.
+const PATHS_PER_TASK: u32 = 256;
+/// Pixels per parallel work item of the camera pass.
+const PIXELS_PER_TASK: usize = 256;
+
+/// Bytes per stored light vertex: the vertex and its record in the hash grid.
+const BYTES_PER_LIGHT_VERTEX: u64 = std::mem::size_of::<LightVertex>() as u64 + BYTES_PER_PHOTON;
+
+/// What one work item of the light pass produces, for its paths in order: their vertices,
+/// the end of each path's vertices (relative to the item's first), the camera splats, and
+/// the rays traced.
+#[derive(Default)]
+struct LightTask {
+    vertices: Vec<LightVertex>,
+    ends: Vec<u32>,
+    splats: Vec<Splat>,
+    counters: RayCounters,
+}
+
+/// The render state of vertex connection and merging.
+pub struct VcmRenderer {
+    settings: RenderSettings,
+    film: Film,
+    /// The pixels rendered (the whole image unless cropped); light subpaths are traced for
+    /// the whole image either way, keyed by their index, so a crop changes no pixel.
+    bounds: PixelBounds,
+    /// The radius (`Radius::World`), or the factor by which r_1 has shrunk (`Radius::Auto`).
+    schedule: RadiusSchedule,
+    /// `Radius::Auto`: r_1, from the pilot pass (made by the first iteration).
+    auto_radius: Option<f32>,
+    /// The merge radius of the last iteration.
+    last_radius: Option<f32>,
+    /// The light vertices of the iteration, path after path; reused.
+    vertices: Vec<LightVertex>,
+    /// Light path i's vertices are `vertices[path_start[i]..path_start[i + 1]]`.
+    path_start: Vec<u32>,
+    /// The light vertices as grid records (`path` = index into `vertices`); reused.
+    records: Vec<Photon>,
+    grid: HashGrid,
+    splats: SplatBuffer,
+    estimates: Vec<Vec3>,
+}
+
+impl VcmRenderer {
+    /// A fresh render of the pixels in `bounds` (see [`PixelBounds`]); `max_depth` is clamped
+    /// to [`MAX_DEPTH`].
+    pub fn with_bounds(settings: RenderSettings, bounds: PixelBounds) -> Self {
+        let film = Film::new(bounds.width(), bounds.height());
+        Self::with_film(settings, bounds, film)
+    }
+
+    /// A render continuing from `snapshot` (whole images only): like the path tracer, VCM
+    /// carries nothing but the film between iterations; iteration i's subpaths depend on
+    /// (seed, i) and its radius on i alone (the `auto` pilot, keyed by the seed, is traced
+    /// again to the same r_1).
+    pub fn from_snapshot(
+        scene: &Scene,
+        settings: RenderSettings,
+        snapshot: Snapshot,
+    ) -> Result<Self, StateError> {
+        let (w, h) = (scene.camera.width, scene.camera.height);
+        snapshot.check_film_only(w, h)?;
+        Ok(Self::with_film(
+            settings,
+            PixelBounds::full(w, h),
+            snapshot.film,
+        ))
+    }
+
+    /// What [`VcmRenderer::from_snapshot`] needs to continue: the film.
+    pub fn snapshot(&self) -> Snapshot {
+        Snapshot {
+            film: self.film.clone(),
+            pixels: Vec::new(),
+        }
+    }
+
+    fn with_film(settings: RenderSettings, bounds: PixelBounds, film: Film) -> Self {
+        let mut settings = settings;
+        settings.max_depth = settings.max_depth.min(MAX_DEPTH);
+        let start = match settings.radius {
+            Radius::World(r) => r,
+            Radius::Auto => 1.0,
+        };
+        VcmRenderer {
+            // 1-based: 0-based iteration k uses the (k + 1)-th radius.
+            schedule: RadiusSchedule::at_iteration(
+                start,
+                settings.alpha,
+                film.next_iteration() + 1,
+            ),
+            auto_radius: None,
+            last_radius: None,
+            settings,
+            film,
+            bounds,
+            vertices: Vec::new(),
+            path_start: Vec::new(),
+            records: Vec::new(),
+            grid: HashGrid::new(),
+            splats: SplatBuffer::new(bounds.len()),
+            estimates: vec![Vec3::ZERO; bounds.len()],
+        }
+    }
+
+    /// What [`VcmRenderer::with_bounds`] and the first iterations allocate for a `width` x
+    /// `height` image: the per-pixel buffers and the splat sums, and the light vertices (with
+    /// their grid records) for [`PHOTONS_PER_PATH`] vertices per light subpath, one subpath per
+    /// pixel (a lower bound: scenes with longer light subpaths store more).
+    pub fn memory_estimate(width: u32, height: u32, _settings: &RenderSettings) -> MemoryEstimate {
+        let pixels = width as u64 * height as u64;
+        // The splat sums, and each light path's first vertex index.
+        let per_pixel = (std::mem::size_of::<[u128; 3]>() + std::mem::size_of::<u32>()) as u64;
+        let mut estimate = MemoryEstimate::default();
+        estimate.add(
+            MemoryPart::Image,
+            image_bytes(width, height).saturating_add(pixels.saturating_mul(per_pixel)),
+        );
+        estimate.add(
+            MemoryPart::Photons,
+            pixels
+                .saturating_mul(PHOTONS_PER_PATH as u64)
+                .saturating_mul(BYTES_PER_LIGHT_VERTEX),
+        );
+        estimate
+    }
+
+    /// The merge radius of the next iteration, and `auto`'s pilot pass if it is due.
+    fn radius(&mut self, scene: &Scene, counters: &mut RayCounters) -> f32 {
+        let s = &self.settings;
+        if s.radius == Radius::Auto && self.auto_radius.is_none() {
+            let radii = pilot_radii(scene, s.seed, s.max_depth, s.rr_depth, counters);
+            self.auto_radius = Some(quantile(&radii, 0.5));
+        }
+        self.schedule.radius() * self.auto_radius.unwrap_or(1.0)
+    }
+
+    /// The light pass: every light subpath of `iteration`, in parallel, collected in path
+    /// order; `None` if `stop` said yes before one of the work items.
+    fn light_pass<F: Fn() -> bool + Sync>(
+        &mut self,
+        scene: &Scene,
+        params: &LightPathParams,
+        paths: u32,
+        stop: &F,
+    ) -> Option<RayCounters> {
+        let abandoned = AtomicBool::new(false);
+        let tasks: Vec<LightTask> = (0..paths.div_ceil(PATHS_PER_TASK))
+            .into_par_iter()
+            .map(|task| {
+                let mut out = LightTask::default();
+                if stop() {
+                    abandoned.store(true, Ordering::Relaxed);
+                    return out;
+                }
+                for path in task * PATHS_PER_TASK..((task + 1) * PATHS_PER_TASK).min(paths) {
+                    trace_light_subpath(
+                        scene,
+                        params,
+                        path,
+                        &mut out.vertices,
+                        &mut out.splats,
+                        &mut out.counters,
+                    );
+                    out.ends.push(out.vertices.len() as u32);
+                }
+                out
+            })
+            .collect();
+        if abandoned.load(Ordering::Relaxed) {
+            return None;
+        }
+        self.vertices.clear();
+        self.path_start.clear();
+        self.path_start.push(0);
+        self.splats.clear();
+        let mut counters = RayCounters::default();
+        for task in &tasks {
+            let base = self.vertices.len() as u32;
+            self.path_start.extend(task.ends.iter().map(|e| base + e));
+            self.vertices.extend_from_slice(&task.vertices);
+            for s in &task.splats {
+                self.splats.add(s.pixel as usize, s.value);
+            }
+            counters = RayCounters::merge(counters, task.counters);
+        }
+        Some(counters)
+    }
+
+    /// Renders one iteration; abandoned (film and radius untouched, `None`) if `stop` says yes
+    /// before one of the light or camera pass's work items starts.
+    pub fn iterate_until<F: Fn() -> bool + Sync>(
+        &mut self,
+        scene: &Scene,
+        stop: &F,
+    ) -> Option<IterationStats> {
+        let iteration = self.film.next_iteration();
+        let mut passes = PassTimes::default();
+        let mut clock = Stopwatch::start();
+        let mut pilot = RayCounters::default();
+        let radius = self.radius(scene, &mut pilot);
+        let camera = &scene.camera;
+        let light_paths = camera.width * camera.height;
+        let mis = MisConstants::new(radius, light_paths);
+        let max_edges = self.settings.max_depth + 1;
+        let params = LightPathParams {
+            seed: self.settings.seed,
+            iteration,
+            max_edges,
+            mis,
+            bounds: self.bounds,
+        };
+        passes.eye = clock.lap();
+        if self.path_start.capacity() == 0 {
+            // What the memory estimate states; grown when a scene stores more vertices.
+            let paths = light_paths as usize;
+            self.path_start.reserve_exact(paths + 1);
+            self.vertices.reserve_exact(paths * PHOTONS_PER_PATH);
+            self.records.reserve_exact(paths * PHOTONS_PER_PATH);
+        }
+        let light = self.light_pass(scene, &params, light_paths, stop)?;
+        passes.photon = clock.lap();
+        self.records.clear();
+        self.records.extend(
+            self.vertices
+                .iter()
+                .enumerate()
+                .map(|(i, y)| Photon::new(y.vertex.hit.p, y.vertex.wo, y.throughput, i as u32)),
+        );
+        self.grid.build(&self.records, radius);
+        passes.grid = clock.lap();
+
+        let pass = CameraPass {
+            scene,
+            seed: self.settings.seed,
+            iteration,
+            max_edges,
+            rr_depth: self.settings.rr_depth,
+            mis,
+            radius,
+            grid: &self.grid,
+            vertices: &self.vertices,
+            path_start: &self.path_start,
+        };
+        let bounds = self.bounds;
+        let splats = &self.splats;
+        let abandoned = AtomicBool::new(false);
+        let eye = self
+            .estimates
+            .par_chunks_mut(PIXELS_PER_TASK)
+            .enumerate()
+            .map(|(task, pixels)| {
+                let mut counters = RayCounters::default();
+                if stop() {
+                    abandoned.store(true, Ordering::Relaxed);
+                    return counters;
+                }
+                for (i, out) in pixels.iter_mut().enumerate() {
+                    let local = task * PIXELS_PER_TASK + i;
+                    let pixel = bounds.full_index(local);
+                    *out = pass.pixel(pixel, &mut counters) + splats.value(local);
+                }
+                counters
+            })
+            .reduce(RayCounters::default, RayCounters::merge);
+        if abandoned.load(Ordering::Relaxed) {
+            return None;
+        }
+        passes.eye += clock.lap();
+
+        let before = self.film.rejected();
+        self.film.count_rejected(self.splats.rejected());
+        self.film.add_iteration(&self.estimates);
+        passes.film = clock.lap();
+        self.schedule.advance();
+        self.last_radius = Some(radius);
+        Some(IterationStats {
+            rays: eye.rays + light.rays + pilot.rays,
+            photon_rays: light.rays,
+            shadow_rays: eye.shadow_rays + light.shadow_rays + pilot.shadow_rays,
+            light_paths: light_paths as u64,
+            photons: self.vertices.len() as u64,
+            radius,
+            rejected: self.film.rejected() - before,
+            passes,
+        })
+    }
+
+    /// The per-pixel estimates of the last iteration alone (row-major), splats included.
+    pub fn last_estimates(&self) -> &[Vec3] {
+        &self.estimates
+    }
+
+    /// The accumulated image.
+    pub fn film(&self) -> &Film {
+        &self.film
+    }
+
+    /// The merge radius of the last iteration (`None` before the first).
+    pub fn last_radius(&self) -> Option<f32> {
+        self.last_radius
+    }
+
+    /// Bytes held by the render state.
+    pub fn memory_bytes(&self) -> usize {
+        self.estimates.len() * std::mem::size_of::<Vec3>()
+            + self.film.memory_bytes()
+            + self.splats.memory_bytes()
+            + self.vertices.capacity() * std::mem::size_of::<LightVertex>()
+            + self.path_start.capacity() * std::mem::size_of::<u32>()
+            + self.records.capacity() * std::mem::size_of::<Photon>()
+            + self.grid.memory_bytes()
+    }
+}
