@@ -1,6 +1,7 @@
 //! Throughput on the four shipped scenes at their full resolution: closest-hit and shadow rays,
 //! photon tracing, hash-grid build and the photon gather (density estimates on the water and
-//! specular scenes' real photon maps at the eye pass's gather points).
+//! specular scenes' real photon maps at the eye pass's gather points); and one iteration of
+//! each integrator on the water box at 64 x 64 pixels, on one thread.
 //!
 //! `cargo bench -p ppm-benches` (add `-- gather` etc. to filter). Single-threaded: these are
 //! kernel throughputs; the parallel scaling is measured by `scripts/scaling.py`.
@@ -127,5 +128,31 @@ fn photon_map(c: &mut Criterion) {
     }
 }
 
-criterion_group!(benches, rays, photon_tracing, photon_map);
+/// One iteration of each integrator (`pt`, `ppm`, `sppm`, `vcm`) with the scene's settings, on
+/// a pool of one thread; throughput in pixels. The render state carries over from sample to
+/// sample (a photon mapper's radius keeps shrinking), as in a render.
+fn iteration(c: &mut Criterion) {
+    let mut g = config(c, "iteration");
+    let name = "cornell_box_water.yml";
+    let scene = load_small(name, 64, 64).build().unwrap();
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .unwrap();
+    g.throughput(Throughput::Elements(64 * 64));
+    for (label, algorithm) in [
+        ("pt", Algorithm::Path),
+        ("ppm", Algorithm::Ppm),
+        ("sppm", Algorithm::Sppm),
+        ("vcm", Algorithm::Vcm),
+    ] {
+        let settings = RenderSettings::for_algorithm(&scene, algorithm);
+        let mut renderer = Renderer::new(&scene, &settings);
+        g.bench_function(BenchmarkId::new(label, name), |b| {
+            b.iter(|| pool.install(|| renderer.iterate(&scene)).rays)
+        });
+    }
+}
+
+criterion_group!(benches, rays, photon_tracing, photon_map, iteration);
 criterion_main!(benches);
