@@ -58,9 +58,18 @@ impl Snapshot {
         self.film.append(&later.film)
     }
 
-    /// Checks the snapshot fits a `width` x `height` render with no per-pixel state (the
-    /// path tracer and PPM).
-    pub(crate) fn check_film_only(&self, width: u32, height: u32) -> Result<(), StateError> {
+    /// The state of an integrator that carries nothing but its film between iterations (the
+    /// path tracer, PPM and VCM).
+    pub(crate) fn of_film(film: &Film) -> Self {
+        Snapshot {
+            film: film.clone(),
+            pixels: Vec::new(),
+        }
+    }
+
+    /// The film of a snapshot that fits a `width` x `height` render with no per-pixel state
+    /// (what [`Snapshot::of_film`] saves); an error otherwise.
+    pub(crate) fn into_film(self, width: u32, height: u32) -> Result<Film, StateError> {
         self.check_size(width, height)?;
         if let Some(c) = self.pixels.first() {
             return Err(StateError::Unsupported(format!(
@@ -69,7 +78,7 @@ impl Snapshot {
                 c.name
             )));
         }
-        Ok(())
+        Ok(self.film)
     }
 
     /// Checks the film is `width` x `height`.

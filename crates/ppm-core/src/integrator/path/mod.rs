@@ -68,12 +68,12 @@ impl PathTracer {
         snapshot: Snapshot,
     ) -> Result<Self, StateError> {
         let (w, h) = (scene.camera.width, scene.camera.height);
-        snapshot.check_film_only(w, h)?;
+        let film = snapshot.into_film(w, h)?;
         let mut settings = settings;
         settings.max_depth = settings.max_depth.min(MAX_DEPTH);
         Ok(PathTracer {
             settings,
-            film: snapshot.film,
+            film,
             bounds: PixelBounds::full(w, h),
             estimates: vec![Vec3::ZERO; (w * h) as usize],
         })
@@ -81,10 +81,7 @@ impl PathTracer {
 
     /// What [`PathTracer::from_snapshot`] needs to continue: the film.
     pub fn snapshot(&self) -> Snapshot {
-        Snapshot {
-            film: self.film.clone(),
-            pixels: Vec::new(),
-        }
+        Snapshot::of_film(&self.film)
     }
 
     /// Traces one path through every pixel and adds the result to the film.

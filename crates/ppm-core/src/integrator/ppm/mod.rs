@@ -110,20 +110,13 @@ impl PpmRenderer {
         snapshot: Snapshot,
     ) -> Result<Self, StateError> {
         let (w, h) = (scene.camera.width, scene.camera.height);
-        snapshot.check_film_only(w, h)?;
-        Ok(Self::with_film(
-            settings,
-            PixelBounds::full(w, h),
-            snapshot.film,
-        ))
+        let film = snapshot.into_film(w, h)?;
+        Ok(Self::with_film(settings, PixelBounds::full(w, h), film))
     }
 
     /// What [`PpmRenderer::from_snapshot`] needs to continue: the film.
     pub fn snapshot(&self) -> Snapshot {
-        Snapshot {
-            film: self.film.clone(),
-            pixels: Vec::new(),
-        }
+        Snapshot::of_film(&self.film)
     }
 
     /// A render of `bounds` whose next iteration is `film.next_iteration()`.
