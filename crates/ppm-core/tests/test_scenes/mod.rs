@@ -287,6 +287,49 @@ pub fn z_scores(a: &PixelStats, b: &PixelStats) -> Vec<f64> {
     z
 }
 
+/// Asserts that `other`, a consistent estimator (`label`), renders scene `name` as the path
+/// tracer does: image means within 4 standard errors of their difference and within 1%; at
+/// most 1% of pixel channels beyond 4 sigma (z from [`z_scores`]); mean z^2 below
+/// `mean_z2_bound` (1 for unbiased estimators; a consistent one keeps a bias near concave
+/// corners and sharp caustics, which the caller's bound allows for).
+pub fn assert_converges_to_pt(
+    name: &str,
+    label: &str,
+    pt: &PixelStats,
+    other: &PixelStats,
+    mean_z2_bound: f64,
+) {
+    let (a, b) = (pt.image_mean(), other.image_mean());
+    let se = (pt.image_mean_se().powi(2) + other.image_mean_se().powi(2)).sqrt();
+    eprintln!(
+        "{name}: pt {a} (se {}) {label} {b} (se {}), relative difference {:+.2e}",
+        pt.image_mean_se(),
+        other.image_mean_se(),
+        (b - a) / a
+    );
+    assert!(
+        (a - b).abs() < 4.0 * se,
+        "{name}: image means pt {a} {label} {b}, se of difference {se}"
+    );
+    assert!(
+        (a - b).abs() / a < 0.01,
+        "{name}: image means pt {a} {label} {b}"
+    );
+    let z = z_scores(pt, other);
+    let beyond = z.iter().filter(|z| z.abs() > 4.0).count();
+    let mean_z2 = z.iter().map(|z| z * z).sum::<f64>() / z.len() as f64;
+    eprintln!(
+        "{name}: {beyond} of {} beyond 4 sigma, mean z^2 {mean_z2}",
+        z.len()
+    );
+    assert!(
+        beyond * 100 <= z.len(),
+        "{name}: {beyond} of {} pixel channels differ beyond 4 sigma",
+        z.len()
+    );
+    assert!(mean_z2 < mean_z2_bound, "{name}: mean z^2 = {mean_z2}");
+}
+
 /// Asserts that every pixel's mean is `expected` within `k` standard errors, and that the
 /// mean over the image is within `k` standard errors of the image mean (pixels independent).
 pub fn assert_uniform_image(stats: &PixelStats, expected: f64, k: f64, what: &str) {
