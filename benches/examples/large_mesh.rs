@@ -12,7 +12,7 @@
 use ppm_benches::large_mesh::{large_scene, ray_sets, write_ray_file, LARGE_N};
 use ppm_core::geometry::Geometry;
 use ppm_core::geometry::Ray;
-use rayon::prelude::*;
+use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 
 fn main() {
@@ -103,11 +103,23 @@ fn main() {
     }
 }
 
-/// Hits (closest-hit) or blocked rays (any-hit), over the pool in chunks of 4096 rays.
+/// Hits (closest-hit) or blocked rays (any-hit) on every thread of the pool. The threads
+/// take chunks of 4096 rays in order from one shared counter, as the Embree harness's
+/// threads do (docs/performance.md), so that both trace neighbouring chunks at the same time.
+/// (Rayon's `par_chunks` would hand each thread one half of the set to start with: rays of
+/// distant parts of the image, and of the mesh, at the same time.)
 fn trace(geometry: &Geometry, rays: &[Ray], any: bool) -> usize {
-    rays.par_chunks(4096)
-        .map(|chunk| {
-            chunk
+    const CHUNK: usize = 4096;
+    let next = AtomicUsize::new(0);
+    let hits = AtomicUsize::new(0);
+    rayon::broadcast(|_| {
+        let mut found = 0;
+        loop {
+            let start = next.fetch_add(CHUNK, Ordering::Relaxed);
+            if start >= rays.len() {
+                break;
+            }
+            found += rays[start..(start + CHUNK).min(rays.len())]
                 .iter()
                 .filter(|r| {
                     if any {
@@ -116,9 +128,11 @@ fn trace(geometry: &Geometry, rays: &[Ray], any: bool) -> usize {
                         geometry.intersect(r).is_some()
                     }
                 })
-                .count()
-        })
-        .sum()
+                .count();
+        }
+        hits.fetch_add(found, Ordering::Relaxed);
+    });
+    hits.into_inner()
 }
 
 fn triangles_as_mesh(geometry: &Geometry) -> ppm_core::geometry::TriangleMesh {
