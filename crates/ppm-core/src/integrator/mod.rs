@@ -15,6 +15,7 @@ mod settings;
 mod shading;
 mod snapshot;
 mod sppm;
+mod task_order;
 mod vcm;
 
 pub use camera_path::CameraPath;

@@ -6,6 +6,7 @@
 mod tracer;
 
 use super::camera_walk::RayCounters;
+use super::task_order::interleaved;
 use super::{
     image_bytes, IterationStats, MemoryEstimate, MemoryPart, PassTimes, RenderSettings, Snapshot,
     Stopwatch, MAX_DEPTH,
@@ -103,10 +104,11 @@ impl PathTracer {
         let abandoned = AtomicBool::new(false);
         let bounds = self.bounds;
         let mut clock = Stopwatch::start();
-        let counters = self
+        let tiles = self
             .estimates
-            .par_chunks_mut(bounds.width() as usize * TILE_ROWS)
-            .enumerate()
+            .chunks_mut(bounds.width() as usize * TILE_ROWS);
+        let counters = interleaved(tiles)
+            .into_par_iter()
             .map(|(tile, rows)| {
                 let mut counters = RayCounters::default();
                 if stop() {

@@ -32,6 +32,7 @@ pub use radius::RadiusSchedule;
 
 use super::camera_walk::RayCounters;
 use super::footprint::{pilot_points, pilot_radii, quantile};
+use super::task_order::interleaved;
 use super::{
     image_bytes, IterationStats, MemoryEstimate, MemoryPart, PassTimes, Radius, RenderSettings,
     Snapshot, Stopwatch, BYTES_PER_PHOTON, MAX_DEPTH, PHOTONS_PER_PATH,
@@ -256,10 +257,8 @@ impl PpmRenderer {
         let abandoned = AtomicBool::new(false);
         let pixel_radii = self.pixel_radii.as_ref().map(|p| &p.initial[..]);
         let bounds = self.bounds;
-        let eye = self
-            .estimates
-            .par_chunks_mut(PIXELS_PER_TASK)
-            .enumerate()
+        let eye = interleaved(self.estimates.chunks_mut(PIXELS_PER_TASK))
+            .into_par_iter()
             .map(|(task, pixels)| {
                 let mut counters = RayCounters::default();
                 if stop() {

@@ -26,6 +26,7 @@ pub use visible_point::{trace_camera_path, SplatPoint};
 
 use super::camera_walk::RayCounters;
 use super::footprint::pilot_radii;
+use super::task_order::interleaved;
 use super::{
     image_bytes, trace_light_path, IterationStats, MemoryEstimate, MemoryPart, PassTimes,
     PhotonCounters, Radius, RenderSettings, Snapshot, Stopwatch, MAX_LIGHT_PATHS,
@@ -228,11 +229,12 @@ impl SppmRenderer {
         let statistics = &self.statistics;
         let bounds = self.bounds;
         let abandoned = AtomicBool::new(false);
-        let camera = self
+        let tasks = self
             .direct_estimates
-            .par_chunks_mut(PIXELS_PER_TASK)
-            .zip(self.points.par_chunks_mut(PIXELS_PER_TASK))
-            .enumerate()
+            .chunks_mut(PIXELS_PER_TASK)
+            .zip(self.points.chunks_mut(PIXELS_PER_TASK));
+        let camera = interleaved(tasks)
+            .into_par_iter()
             .map(|(task, (ld, points))| {
                 let mut counters = RayCounters::default();
                 if stop() {

@@ -32,6 +32,7 @@ mod vertex;
 
 use super::camera_walk::RayCounters;
 use super::footprint::{pilot_radii, quantile};
+use super::task_order::interleaved;
 use super::{
     image_bytes, IterationStats, MemoryEstimate, MemoryPart, PassTimes, Radius, RadiusSchedule,
     RenderSettings, Snapshot, Stopwatch, BYTES_PER_PHOTON, MAX_DEPTH, PHOTONS_PER_PATH,
@@ -289,10 +290,8 @@ impl VcmRenderer {
         let bounds = self.bounds;
         let splats = &self.splats;
         let abandoned = AtomicBool::new(false);
-        let eye = self
-            .estimates
-            .par_chunks_mut(PIXELS_PER_TASK)
-            .enumerate()
+        let eye = interleaved(self.estimates.chunks_mut(PIXELS_PER_TASK))
+            .into_par_iter()
             .map(|(task, pixels)| {
                 let mut counters = RayCounters::default();
                 if stop() {
