@@ -2,7 +2,9 @@
 //! by the path, next-event estimation, connection to the light subpath paired with the pixel,
 //! and merging with the light vertices within the radius.
 
-use super::mis::{mis, MisConstants, SubpathMis};
+use super::mis::{
+    connection_weight, direct_weight, emission_weight, merge_weight, MisConstants, SubpathMis,
+};
 use super::vertex::{LightVertex, SurfaceVertex};
 use crate::bsdf::{Lobe, TransportMode};
 use crate::geometry::Ray;
@@ -134,10 +136,7 @@ impl CameraPass<'_> {
             return 1.0;
         };
         let (pdf_pos, pdf_dir) = light.pdf_emission(hit.ng, x.v.wo);
-        let direct_pdf_area = p_light * pdf_pos;
-        let w_camera =
-            mis(direct_pdf_area) * x.state.dvcm + mis(direct_pdf_area * pdf_dir) * x.state.dvc;
-        1.0 / (1.0 + w_camera)
+        emission_weight(x.state, p_light * pdf_pos, pdf_dir)
     }
 
     /// Next-event estimation, a vertex connection to a light (TR eqs. 44-45): one light
@@ -170,15 +169,15 @@ impl CameraPass<'_> {
         };
         let (_, pdf_emit_dir) = light.pdf_emission(ls.n, -ls.wi);
         let pdf_light = p_light * ls.pdf;
-        let c = &self.mis;
-        let w_light = if ls.is_delta {
-            0.0
-        } else {
-            mis(e.pdf_forward / pdf_light)
-        };
-        let w_camera = mis(pdf_emit_dir * e.cos / (ls.dist * ls.dist))
-            * (c.vm_weight + x.state.dvcm + x.state.dvc * mis(e.pdf_reverse));
-        let weight = 1.0 / (w_light + 1.0 + w_camera);
+        let weight = direct_weight(
+            x.state,
+            pdf_light,
+            ls.is_delta,
+            e.pdf_forward,
+            pdf_emit_dir * e.cos / (ls.dist * ls.dist),
+            e.pdf_reverse,
+            &self.mis,
+        );
         counters.shadow_rays += 1;
         if scene.occluded(&Ray::spawn_to(hit.p, hit.ng, ls.p, ls.n)) {
             return Vec3::ZERO;
@@ -218,11 +217,15 @@ impl CameraPass<'_> {
             };
             let camera_pdf_area = ex.pdf_forward * ey.cos / dist2;
             let light_pdf_area = ey.pdf_forward * ex.cos / dist2;
-            let w_light =
-                mis(camera_pdf_area) * (c.vm_weight + y.mis.dvcm + y.mis.dvc * mis(ey.pdf_reverse));
-            let w_camera = mis(light_pdf_area)
-                * (c.vm_weight + x.state.dvcm + x.state.dvc * mis(ex.pdf_reverse));
-            let weight = 1.0 / (w_light + 1.0 + w_camera);
+            let weight = connection_weight(
+                &y.mis,
+                x.state,
+                camera_pdf_area,
+                light_pdf_area,
+                ey.pdf_reverse,
+                ex.pdf_reverse,
+                c,
+            );
             counters.shadow_rays += 1;
             let shadow = Ray::spawn_to(hit.p, hit.ng, y.vertex.hit.p, y.vertex.hit.ng);
             if self.scene.occluded(&shadow) {
@@ -254,9 +257,9 @@ impl CameraPass<'_> {
                 let Some(e) = x.v.eval(y.vertex.wo, TransportMode::Radiance) else {
                     return;
                 };
-                let w_light = y.mis.dvcm * c.vc_weight + y.mis.dvm * mis(e.pdf_forward);
-                let w_camera = x.state.dvcm * c.vc_weight + x.state.dvm * mis(e.pdf_reverse);
-                sum += e.f * y.throughput / (w_light + 1.0 + w_camera);
+                sum += e.f
+                    * y.throughput
+                    * merge_weight(&y.mis, x.state, e.pdf_forward, e.pdf_reverse, c);
             });
         sum * c.vm_normalization
     }

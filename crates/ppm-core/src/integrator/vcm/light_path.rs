@@ -1,7 +1,7 @@
 //! The light subpaths of VCM: traced from the lights, their non-delta vertices stored for
 //! connections and merging, and each of those connected to the camera (light tracing).
 
-use super::mis::{mis, MisConstants, SubpathMis};
+use super::mis::{light_tracing_weight, MisConstants, SubpathMis};
 use super::vertex::{LightVertex, SurfaceVertex};
 use crate::bsdf::{shading_normal_correction, Lobe, TransportMode};
 use crate::geometry::Ray;
@@ -179,9 +179,7 @@ fn connect_to_camera(
     let camera_pdf = camera.pixel_direction_pdf(cos_camera);
     let camera_pdf_area = camera_pdf * e.cos / dist2;
     let c = &params.mis;
-    let w_light = mis(camera_pdf_area / c.light_paths)
-        * (c.vm_weight + y.mis.dvcm + y.mis.dvc * mis(e.pdf_reverse));
-    let weight = 1.0 / (w_light + 1.0);
+    let weight = light_tracing_weight(&y.mis, camera_pdf_area, e.pdf_reverse, c);
     counters.shadow_rays += 1;
     let shadow = Ray::spawn_to(p, y.vertex.hit.ng, camera.position, Vec3::ZERO);
     if scene.occluded(&shadow) {

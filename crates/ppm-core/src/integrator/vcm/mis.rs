@@ -157,3 +157,355 @@ impl SubpathMis {
         }
     }
 }
+
+/// The weight of emission the camera subpath finds at a light vertex x_0 it did not start at
+/// (TR eqs. 42-43), with `direct_pdf_area` the area pdf with which next-event estimation and
+/// the light subpaths choose x_0 (p_light p_A) and `emission_pdf_dir` the light's pdf of
+/// emitting toward the camera subpath's previous vertex: w_camera = mis(p_A) dVCM +
+/// mis(p_A p_W) dVC, w = 1 / (1 + w_camera).
+#[inline]
+pub(super) fn emission_weight(
+    camera: &SubpathMis,
+    direct_pdf_area: f32,
+    emission_pdf_dir: f32,
+) -> f32 {
+    let w_camera =
+        mis(direct_pdf_area) * camera.dvcm + mis(direct_pdf_area * emission_pdf_dir) * camera.dvc;
+    1.0 / (1.0 + w_camera)
+}
+
+/// The weight of next-event estimation at a camera vertex (TR eqs. 44-45): `light_pdf` the
+/// solid-angle pdf of the sampled light point (p_light p_W), `bsdf_pdf` the vertex's pdf of
+/// sampling that direction, `emission_pdf_area` the light's emission pdf toward the vertex
+/// as an area density there (p_e |cos| / d^2) and `bsdf_pdf_reverse` the vertex's pdf of the
+/// direction back along the camera subpath. w_light = mis(p_bsdf / p_light) (0 for a delta
+/// light, which no camera subpath hits), w_camera = mis(p_e |cos| / d^2) (mis(eta_VCM) + dVCM
+/// + dVC mis(p_rev)), w = 1 / (w_light + 1 + w_camera).
+#[inline]
+pub(super) fn direct_weight(
+    camera: &SubpathMis,
+    light_pdf: f32,
+    delta_light: bool,
+    bsdf_pdf: f32,
+    emission_pdf_area: f32,
+    bsdf_pdf_reverse: f32,
+    c: &MisConstants,
+) -> f32 {
+    let w_light = if delta_light {
+        0.0
+    } else {
+        mis(bsdf_pdf / light_pdf)
+    };
+    let w_camera =
+        mis(emission_pdf_area) * (c.vm_weight + camera.dvcm + camera.dvc * mis(bsdf_pdf_reverse));
+    1.0 / (w_light + 1.0 + w_camera)
+}
+
+/// The weight of connecting light vertex y to camera vertex x (TR eqs. 40-41): each subpath
+/// extended to the other's vertex, in area measure (`camera_pdf_area` = p_x(-> y) |cos_y| /
+/// d^2, `light_pdf_area` = p_y(-> x) |cos_x| / d^2), and each vertex's pdf of the direction
+/// back along its own subpath given the connection (`light_pdf_reverse` at y,
+/// `camera_pdf_reverse` at x): w_light = mis(camera_pdf_area) (mis(eta_VCM) + dVCM_y + dVC_y
+/// mis(p_y,rev)), w_camera likewise, w = 1 / (w_light + 1 + w_camera).
+#[inline]
+pub(super) fn connection_weight(
+    light: &SubpathMis,
+    camera: &SubpathMis,
+    camera_pdf_area: f32,
+    light_pdf_area: f32,
+    light_pdf_reverse: f32,
+    camera_pdf_reverse: f32,
+    c: &MisConstants,
+) -> f32 {
+    let w_light =
+        mis(camera_pdf_area) * (c.vm_weight + light.dvcm + light.dvc * mis(light_pdf_reverse));
+    let w_camera =
+        mis(light_pdf_area) * (c.vm_weight + camera.dvcm + camera.dvc * mis(camera_pdf_reverse));
+    1.0 / (w_light + 1.0 + w_camera)
+}
+
+/// The weight of merging light vertex y at camera vertex x (TR eqs. 38-39): `pdf_forward` is
+/// x's pdf of the direction y arrived along (the light subpath's next step, sampled at x),
+/// `pdf_reverse` x's pdf of the camera subpath's direction given that one. w_light = dVCM_y
+/// mis(1/eta_VCM) + dVM_y mis(p_forward), w_camera = dVCM_x mis(1/eta_VCM) + dVM_x
+/// mis(p_reverse), w = 1 / (w_light + 1 + w_camera).
+#[inline]
+pub(super) fn merge_weight(
+    light: &SubpathMis,
+    camera: &SubpathMis,
+    pdf_forward: f32,
+    pdf_reverse: f32,
+    c: &MisConstants,
+) -> f32 {
+    let w_light = light.dvcm * c.vc_weight + light.dvm * mis(pdf_forward);
+    let w_camera = camera.dvcm * c.vc_weight + camera.dvm * mis(pdf_reverse);
+    1.0 / (w_light + 1.0 + w_camera)
+}
+
+/// The weight of connecting light vertex y to the pinhole (TR eqs. 46-47): the camera subpath
+/// finds y with area pdf `camera_pdf_area` (p_cam |cos_y| / d^2) out of N_light tries, and
+/// `pdf_reverse` is y's pdf of the direction back along the light subpath given the camera's.
+/// w_light = mis(p_cam |cos_y| / (d^2 N_light)) (mis(eta_VCM) + dVCM + dVC mis(p_rev)); the
+/// camera subpath has no other vertex, w = 1 / (w_light + 1).
+#[inline]
+pub(super) fn light_tracing_weight(
+    light: &SubpathMis,
+    camera_pdf_area: f32,
+    pdf_reverse: f32,
+    c: &MisConstants,
+) -> f32 {
+    let w_light = mis(camera_pdf_area / c.light_paths)
+        * (c.vm_weight + light.dvcm + light.dvc * mis(pdf_reverse));
+    1.0 / (w_light + 1.0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sampling::Rng;
+
+    /// One full path x_0 (on an area light) .. x_k (the pinhole) of non-delta vertices, by
+    /// the numbers every technique's pdf is made of.
+    struct Path {
+        k: usize,
+        /// d[j]: the distance from x_j to x_{j+1}.
+        d: Vec<f32>,
+        /// |cos| at x_j towards x_{j-1} (`toward_light`) and towards x_{j+1} (`toward_camera`).
+        toward_light: Vec<f32>,
+        toward_camera: Vec<f32>,
+        /// At x_j (0 < j < k): the solid-angle pdf of sampling towards x_{j+1} having arrived
+        /// from x_{j-1} (`forward`), and of the opposite (`reverse`).
+        forward: Vec<f32>,
+        reverse: Vec<f32>,
+        /// p_light p_A of x_0, the light's emission pdf towards x_1, the camera's per-pixel
+        /// solid-angle pdf towards x_{k-1}.
+        light_area: f32,
+        emission_dir: f32,
+        camera: f32,
+        /// A vertex x_m (0 < m < k) with a delta lobe (a mirror), if any: its forward and
+        /// reverse pdfs are the same discrete probability, and no technique ends there.
+        delta: Option<usize>,
+    }
+
+    impl Path {
+        fn random(k: usize, rng: &mut Rng) -> Path {
+            let mut value = |lo: f32, hi: f32| lo + (hi - lo) * rng.uniform();
+            let mut list = |lo, hi| (0..=k).map(|_| value(lo, hi)).collect::<Vec<f32>>();
+            let (d, toward_light, toward_camera) = (list(0.3, 3.0), list(0.1, 1.0), list(0.1, 1.0));
+            let (mut forward, reverse) = (list(0.05, 2.0), list(0.05, 2.0));
+            let delta = (k >= 3 && value(0.0, 1.0) < 0.5)
+                .then(|| 1 + (value(0.0, 1.0) * (k - 1) as f32) as usize);
+            if let Some(m) = delta {
+                forward[m] = reverse[m];
+            }
+            Path {
+                k,
+                d,
+                toward_light,
+                toward_camera,
+                forward,
+                reverse,
+                light_area: value(0.2, 2.0),
+                emission_dir: value(0.05, 0.4),
+                camera: value(0.5, 4.0),
+                delta,
+            }
+        }
+
+        /// True if x_j has a delta lobe.
+        fn is_delta(&self, j: usize) -> bool {
+            self.delta == Some(j)
+        }
+
+        /// Area pdf of x_j sampled by the light subpath (from x_{j-1}), j < k.
+        fn p_light(&self, j: usize) -> f64 {
+            let step = match j {
+                0 => return self.light_area as f64,
+                1 => self.emission_dir,
+                _ => self.forward[j - 1],
+            };
+            (step * self.toward_light[j] / (self.d[j - 1] * self.d[j - 1])) as f64
+        }
+
+        /// Area pdf of x_j sampled by the camera subpath (from x_{j+1}), j < k.
+        fn p_camera(&self, j: usize) -> f64 {
+            let step = if j == self.k - 1 {
+                self.camera
+            } else {
+                self.reverse[j + 1]
+            };
+            (step * self.toward_camera[j] / (self.d[j] * self.d[j])) as f64
+        }
+
+        /// The pdf of every technique that makes this path, by definition (TR sec. 3-4):
+        /// a connection of the light subpath x_0..x_{s-1} and the camera subpath
+        /// x_s..x_k is the product of their vertices' area pdfs (s = 0: the camera subpath
+        /// finds the light; s = k: light tracing, one for each of the N light subpaths), and
+        /// merging at x_i is the connection with the light subpath x_0..x_{i-1}, times the
+        /// light subpath's density at x_i over the disc (pi r^2 p), times N. In order:
+        /// s = 0..=k, then merges at x_1..x_{k-1}; `None` for a technique that would end a
+        /// subpath at the delta vertex.
+        fn technique_pdfs(&self, radius: f32, n: f32) -> Vec<Option<f64>> {
+            let k = self.k;
+            let light = |s: usize| (0..s).map(|j| self.p_light(j)).product::<f64>();
+            let camera = |s: usize| (s..k).map(|j| self.p_camera(j)).product::<f64>();
+            let open = |s: usize| s == 0 || !(self.is_delta(s - 1) || self.is_delta(s));
+            let mut pdfs: Vec<Option<f64>> = (0..k)
+                .map(|s| open(s).then(|| light(s) * camera(s)))
+                .collect();
+            pdfs.push((!self.is_delta(k - 1)).then(|| n as f64 * light(k)));
+            let disc = std::f64::consts::PI * (radius as f64).powi(2) * n as f64;
+            pdfs.extend(
+                (1..k).map(|i| (!self.is_delta(i)).then(|| disc * light(i + 1) * camera(i))),
+            );
+            pdfs
+        }
+
+        /// The weights the estimators give each technique of `technique_pdfs`, from the
+        /// subpaths' recursive quantities.
+        #[allow(clippy::needless_range_loop)] // j indexes the path's arrays and the states
+        fn weights(&self, c: &MisConstants) -> Vec<Option<f32>> {
+            let k = self.k;
+            // The light subpath's quantities on arriving at x_j (index j, 1..k-1).
+            let mut light = vec![SubpathMis::default(); k];
+            let mut state = SubpathMis::light_start(
+                self.light_area,
+                self.emission_dir,
+                self.toward_camera[0],
+                false,
+                c,
+            );
+            for j in 1..k {
+                if j > 1 {
+                    let (fwd, rev) = (self.forward[j - 1], self.reverse[j - 1]);
+                    let delta = self.is_delta(j - 1);
+                    state.scatter(delta, self.toward_camera[j - 1], fwd, rev, c);
+                }
+                let d = self.d[j - 1];
+                assert!(state.arrive(d * d, self.toward_light[j]));
+                light[j] = state;
+            }
+            // The camera subpath's on arriving at x_j (index j, 0..k-1).
+            let mut camera = vec![SubpathMis::default(); k];
+            let mut state = SubpathMis::camera_start(self.camera, c);
+            for j in (0..k).rev() {
+                if j < k - 1 {
+                    let (fwd, rev) = (self.reverse[j + 1], self.forward[j + 1]);
+                    let delta = self.is_delta(j + 1);
+                    state.scatter(delta, self.toward_light[j + 1], fwd, rev, c);
+                }
+                let d = self.d[j];
+                assert!(state.arrive(d * d, self.toward_camera[j]));
+                camera[j] = state;
+            }
+            let mut weights = Vec::new();
+            // s = 0: the camera subpath finds the light at x_0.
+            weights.push(Some(emission_weight(
+                &camera[0],
+                self.light_area,
+                self.emission_dir,
+            )));
+            // s = 1: next-event estimation at x_1.
+            let d0 = self.d[0];
+            weights.push((!self.is_delta(1)).then(|| {
+                direct_weight(
+                    &camera[1],
+                    self.light_area * d0 * d0 / self.toward_camera[0],
+                    false,
+                    self.reverse[1],
+                    self.emission_dir * self.toward_light[1] / (d0 * d0),
+                    self.forward[1],
+                    c,
+                )
+            }));
+            // 2 <= s < k: connection of x_{s-1} and x_s.
+            for s in 2..k {
+                let d2 = self.d[s - 1] * self.d[s - 1];
+                let open = !(self.is_delta(s - 1) || self.is_delta(s));
+                weights.push(open.then(|| {
+                    connection_weight(
+                        &light[s - 1],
+                        &camera[s],
+                        self.reverse[s] * self.toward_camera[s - 1] / d2,
+                        self.forward[s - 1] * self.toward_light[s] / d2,
+                        self.reverse[s - 1],
+                        self.forward[s],
+                        c,
+                    )
+                }));
+            }
+            // s = k: light tracing from x_{k-1}.
+            let d2 = self.d[k - 1] * self.d[k - 1];
+            weights.push((!self.is_delta(k - 1)).then(|| {
+                light_tracing_weight(
+                    &light[k - 1],
+                    self.camera * self.toward_camera[k - 1] / d2,
+                    self.reverse[k - 1],
+                    c,
+                )
+            }));
+            // Merging at x_i.
+            for i in 1..k {
+                weights.push((!self.is_delta(i)).then(|| {
+                    merge_weight(&light[i], &camera[i], self.reverse[i], self.forward[i], c)
+                }));
+            }
+            weights
+        }
+    }
+
+    /// The recursive weights (dVCM, dVC, dVM and the five estimators' formulas) equal the
+    /// power heuristic over every technique's pdf written out as a product of the path's
+    /// area pdfs, technique by technique, on random paths of 2 to 7 edges (half of those of
+    /// 3 or more with a mirror vertex), so they sum to one: the estimator is unbiased whatever
+    /// the radius and the number of light paths.
+    #[test]
+    fn recursive_weights_equal_the_power_heuristic_over_all_techniques() {
+        let mut rng = Rng::new(5, 0, 0);
+        // Techniques of each kind (emission, next-event, connection, light tracing, merging)
+        // that carried a weight between 5% and 95% somewhere: the test compares real mixtures.
+        let mut mixed = [0usize; 5];
+        let mut deltas = 0;
+        for case in 0..600 {
+            let k = 2 + case % 6;
+            let path = Path::random(k, &mut rng);
+            let (radius, n) = ([0.01, 0.05, 0.3][case % 3], [100.0, 4096.0][case % 2]);
+            let c = MisConstants::new(radius, n as u32);
+            let pdfs = path.technique_pdfs(radius, n);
+            let total: f64 = pdfs.iter().flatten().map(|p| p * p).sum();
+            let weights = path.weights(&c);
+            assert_eq!(weights.len(), pdfs.len());
+            deltas += path.delta.is_some() as usize;
+            for (t, (&w, &p)) in weights.iter().zip(&pdfs).enumerate() {
+                let (w, p) = match (w, p) {
+                    (Some(w), Some(p)) => (w, p),
+                    (None, None) => continue,
+                    _ => panic!("case {case}: technique {t} is available to one side only"),
+                };
+                let expected = p * p / total;
+                let kind = match t {
+                    0 => 0,
+                    1 => 1,
+                    t if t < k => 2,
+                    t if t == k => 3,
+                    _ => 4,
+                };
+                mixed[kind] += (0.05..0.95).contains(&expected) as usize;
+                assert!(
+                    (w as f64 - expected).abs() <= 1e-4 * expected.max(1e-3),
+                    "case {case}, k = {k}, technique {t}: {w} against {expected}"
+                );
+            }
+            let sum: f64 = weights.iter().flatten().map(|&w| w as f64).sum();
+            assert!(
+                (sum - 1.0).abs() < 1e-4,
+                "case {case}: the weights sum to {sum}"
+            );
+        }
+        assert!(
+            mixed.iter().all(|&m| m >= 20),
+            "too few mixed weights: {mixed:?}"
+        );
+        assert!(deltas > 100, "too few paths with a delta vertex: {deltas}");
+    }
+}
