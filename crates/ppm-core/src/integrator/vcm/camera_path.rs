@@ -5,7 +5,7 @@
 use super::mis::{
     connection_weight, direct_weight, emission_weight, merge_weight, MisConstants, SubpathMis,
 };
-use super::vertex::{LightVertex, SurfaceVertex};
+use super::vertex::{LightVertex, MergeVertex, SurfaceVertex};
 use crate::bsdf::{Lobe, TransportMode};
 use crate::geometry::Ray;
 use crate::integrator::camera_path::start_pixel_path;
@@ -33,6 +33,8 @@ pub(super) struct CameraPass<'a> {
     pub vertices: &'a [LightVertex],
     /// Light path i's vertices are `vertices[path_start[i]..path_start[i + 1]]`.
     pub path_start: &'a [u32],
+    /// What merging reads of the light vertices, in the grid's order.
+    pub merge_vertices: &'a [MergeVertex],
 }
 
 /// The camera vertex and the subpath state the estimators at it read.
@@ -249,12 +251,12 @@ impl CameraPass<'_> {
         let c = &self.mis;
         let mut sum = Vec3::ZERO;
         self.grid
-            .for_each_in_radius(x.v.hit.p, self.radius, |photon, _| {
-                let y = &self.vertices[photon.path as usize];
+            .for_each_index_in_radius(x.v.hit.p, self.radius, |i, _| {
+                let y = &self.merge_vertices[i];
                 if x.edges + y.edges > self.max_edges {
                     return;
                 }
-                let Some(e) = x.v.eval(y.vertex.wo, TransportMode::Radiance) else {
+                let Some(e) = x.v.eval(y.wo, TransportMode::Radiance) else {
                     return;
                 };
                 sum += e.f

@@ -48,15 +48,18 @@ use light_path::{trace_light_subpath, LightPathParams, Splat};
 use mis::MisConstants;
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicBool, Ordering};
-use vertex::LightVertex;
+use vertex::{LightVertex, MergeVertex};
 
 /// Light subpaths per parallel work item of the light pass.
 const PATHS_PER_TASK: u32 = 256;
 /// Pixels per parallel work item of the camera pass.
 const PIXELS_PER_TASK: usize = 256;
 
-/// Bytes per stored light vertex: the vertex and its record in the hash grid.
-const BYTES_PER_LIGHT_VERTEX: u64 = std::mem::size_of::<LightVertex>() as u64 + BYTES_PER_PHOTON;
+/// Bytes per stored light vertex: the vertex, its record in the hash grid and what merging
+/// reads of it.
+const BYTES_PER_LIGHT_VERTEX: u64 = (std::mem::size_of::<LightVertex>()
+    + std::mem::size_of::<MergeVertex>()) as u64
+    + BYTES_PER_PHOTON;
 
 /// What one work item of the light pass produces, for its paths in order: their vertices,
 /// the end of each path's vertices (relative to the item's first), the camera splats, and
@@ -89,6 +92,8 @@ pub struct VcmRenderer {
     /// The light vertices as grid records (`path` = index into `vertices`); reused.
     records: Vec<Photon>,
     grid: HashGrid,
+    /// What merging reads of the light vertices, in the grid's order; reused.
+    merge_vertices: Vec<MergeVertex>,
     splats: SplatBuffer,
     estimates: Vec<Vec3>,
 }
@@ -143,6 +148,7 @@ impl VcmRenderer {
             path_start: Vec::new(),
             records: Vec::new(),
             grid: HashGrid::new(),
+            merge_vertices: Vec::new(),
             splats: SplatBuffer::new(bounds.len()),
             estimates: vec![Vec3::ZERO; bounds.len()],
         }
@@ -262,6 +268,7 @@ impl VcmRenderer {
             self.path_start.reserve_exact(paths + 1);
             self.vertices.reserve_exact(paths * PHOTONS_PER_PATH);
             self.records.reserve_exact(paths * PHOTONS_PER_PATH);
+            self.merge_vertices.reserve_exact(paths * PHOTONS_PER_PATH);
         }
         let light = self.light_pass(scene, &params, light_paths, stop)?;
         passes.photon = clock.lap();
@@ -273,6 +280,14 @@ impl VcmRenderer {
                 .map(|(i, y)| Photon::new(y.vertex.hit.p, y.vertex.wo, y.throughput, i as u32)),
         );
         self.grid.build(&self.records, radius);
+        self.merge_vertices.clear();
+        let vertices = &self.vertices;
+        self.merge_vertices.par_extend(
+            self.grid
+                .photons()
+                .par_iter()
+                .map(|photon| MergeVertex::of(&vertices[photon.path as usize])),
+        );
         passes.grid = clock.lap();
 
         let pass = CameraPass {
@@ -286,6 +301,7 @@ impl VcmRenderer {
             grid: &self.grid,
             vertices: &self.vertices,
             path_start: &self.path_start,
+            merge_vertices: &self.merge_vertices,
         };
         let bounds = self.bounds;
         let splats = &self.splats;
@@ -352,6 +368,7 @@ impl VcmRenderer {
             + self.vertices.capacity() * std::mem::size_of::<LightVertex>()
             + self.path_start.capacity() * std::mem::size_of::<u32>()
             + self.records.capacity() * std::mem::size_of::<Photon>()
+            + self.merge_vertices.capacity() * std::mem::size_of::<MergeVertex>()
             + self.grid.memory_bytes()
     }
 }

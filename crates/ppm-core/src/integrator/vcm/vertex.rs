@@ -88,3 +88,29 @@ pub(super) struct LightVertex {
     /// Edges from the light to this vertex (1 at the first hit).
     pub edges: u32,
 }
+
+/// What merging reads of a light vertex: kept beside the hash grid in its order
+/// (`VcmRenderer::merge_vertices`), so that the light vertices a query finds, which lie in
+/// the same cells, are read from consecutive memory rather than one by one from the paths'
+/// storage (three cache lines each, in path order).
+#[derive(Clone, Copy, Debug)]
+pub(super) struct MergeVertex {
+    /// The light vertex's `wo`: the direction back toward the light.
+    pub wo: Vec3,
+    pub throughput: Vec3,
+    pub mis: SubpathMis,
+    pub edges: u32,
+}
+
+impl MergeVertex {
+    /// The part of `y` merging reads.
+    #[inline]
+    pub fn of(y: &LightVertex) -> Self {
+        MergeVertex {
+            wo: y.vertex.wo,
+            throughput: y.throughput,
+            mis: y.mis,
+            edges: y.edges,
+        }
+    }
+}

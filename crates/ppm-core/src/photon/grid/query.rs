@@ -25,6 +25,14 @@ impl HashGrid {
         self.query(p, r, |i, d2| f(&self.photons[i], d2));
     }
 
+    /// [`HashGrid::for_each_in_radius`] handing out the photon's index in
+    /// [`HashGrid::photons`] (the grid's order) instead of the photon: for data kept beside
+    /// the grid in that order.
+    #[inline]
+    pub fn for_each_index_in_radius(&self, p: Vec3, r: f32, f: impl FnMut(usize, f32)) {
+        self.query(p, r, f);
+    }
+
     /// [`HashGrid::for_each_in_radius`] handing out only what a density estimate reads, the
     /// flux and the incoming side ([`FluxRecord`]).
     #[inline]
