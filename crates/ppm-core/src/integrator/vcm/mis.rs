@@ -126,6 +126,16 @@ impl SubpathMis {
         true
     }
 
+    /// The sum this subpath adds to a connection's weight (TR eqs. 40-41, 44-47): the
+    /// techniques that would have sampled the connection's other vertex as this subpath's
+    /// next one, reached from this subpath's last vertex with area pdf `pdf_area`, and
+    /// `pdf_reverse` the last vertex's pdf of the direction back along this subpath given the
+    /// connection: mis(p_A) (mis(eta_VCM) + dVCM + dVC mis(p_rev)).
+    #[inline]
+    pub fn connected(&self, pdf_area: f32, pdf_reverse: f32, c: &MisConstants) -> f32 {
+        mis(pdf_area) * (c.vm_weight + self.dvcm + self.dvc * mis(pdf_reverse))
+    }
+
     /// After sampling the next direction at a vertex (TR eqs. 35-37): `cos_out` is |cos| of the
     /// sampled direction, `pdf` its solid-angle pdf, `pdf_reverse` the pdf of the opposite
     /// direction (the one the path arrived from) given the sampled one (TR eqs. 34-36).
@@ -196,8 +206,7 @@ pub(super) fn direct_weight(
     } else {
         mis(bsdf_pdf / light_pdf)
     };
-    let w_camera =
-        mis(emission_pdf_area) * (c.vm_weight + camera.dvcm + camera.dvc * mis(bsdf_pdf_reverse));
+    let w_camera = camera.connected(emission_pdf_area, bsdf_pdf_reverse, c);
     1.0 / (w_light + 1.0 + w_camera)
 }
 
@@ -217,10 +226,8 @@ pub(super) fn connection_weight(
     camera_pdf_reverse: f32,
     c: &MisConstants,
 ) -> f32 {
-    let w_light =
-        mis(camera_pdf_area) * (c.vm_weight + light.dvcm + light.dvc * mis(light_pdf_reverse));
-    let w_camera =
-        mis(light_pdf_area) * (c.vm_weight + camera.dvcm + camera.dvc * mis(camera_pdf_reverse));
+    let w_light = light.connected(camera_pdf_area, light_pdf_reverse, c);
+    let w_camera = camera.connected(light_pdf_area, camera_pdf_reverse, c);
     1.0 / (w_light + 1.0 + w_camera)
 }
 
@@ -254,8 +261,7 @@ pub(super) fn light_tracing_weight(
     pdf_reverse: f32,
     c: &MisConstants,
 ) -> f32 {
-    let w_light = mis(camera_pdf_area / c.light_paths)
-        * (c.vm_weight + light.dvcm + light.dvc * mis(pdf_reverse));
+    let w_light = light.connected(camera_pdf_area / c.light_paths, pdf_reverse, c);
     1.0 / (w_light + 1.0)
 }
 
