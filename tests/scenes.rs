@@ -113,3 +113,42 @@ fn far_and_tiny_scenes_render_like_the_original() {
         }
     }
 }
+
+/// A scene of lights only (`objects:` empty, which the format allows) renders black with
+/// every algorithm: nothing to gather on, yet the `auto` radius must still be a valid one
+/// (it fell back to a fraction of the scene's diagonal, 0 here, and the photon grid
+/// refused it with a panic).
+#[test]
+fn a_scene_without_geometry_renders_black_with_every_algorithm() {
+    let mut builder = load_small("cornell_box.yml", 16, 16);
+    builder.meshes.clear();
+    builder.spheres.clear();
+    builder.point_lights.push(PointLight {
+        position: Vec3::new(0.0, 1.0, 0.0),
+        intensity: Vec3::ONE,
+    });
+    let scene = builder.build().unwrap();
+    for algorithm in [
+        Algorithm::Path,
+        Algorithm::Ppm,
+        Algorithm::Sppm,
+        Algorithm::Vcm,
+    ] {
+        let settings = RenderSettings {
+            algorithm,
+            photons: 1000,
+            radius: Radius::Auto,
+            ..RenderSettings::new(&scene)
+        };
+        let mut r = Renderer::new(&scene, &settings);
+        for _ in 0..2 {
+            let stats = r.iterate(&scene);
+            assert_eq!(stats.rejected, 0, "{algorithm:?}: rejected samples");
+        }
+        let image = r.image();
+        assert!(
+            image.pixels.iter().all(|p| *p == Vec3::ZERO),
+            "{algorithm:?}: light from nowhere"
+        );
+    }
+}

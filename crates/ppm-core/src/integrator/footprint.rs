@@ -108,7 +108,8 @@ pub fn pilot_points(
 /// The initial radius of every pixel (row-major) for [`super::Radius::Auto`]:
 /// [`footprint_radius`] at the path length of the pixel's [`pilot_points`]. Pixels whose
 /// pilot finds no diffuse vertex take the median of the others' radii; if no pixel finds one
-/// the scene has nothing to gather on and 0.5% of the scene's diagonal stands in.
+/// the scene has nothing to gather on and 0.5% of the scene's diagonal stands in (1 if the
+/// scene has no extent).
 ///
 /// The pilot's random numbers are its own, drawn before and independently of every
 /// iteration's, so the radii are fixed, not random, for the iterations' estimates.
@@ -129,7 +130,14 @@ pub fn pilot_radii(
         .filter(|r| r.is_finite() && *r > 0.0)
         .collect();
     let fallback = if found.is_empty() {
-        0.005 * scene.diagonal()
+        // A scene without geometry (only lights) has a diagonal of 0; nothing is ever
+        // gathered there, but the grids need a positive radius.
+        let r = 0.005 * scene.diagonal();
+        if r.is_finite() && r > 0.0 {
+            r
+        } else {
+            1.0
+        }
     } else {
         let mid = found.len() / 2;
         *found.select_nth_unstable_by(mid, f32::total_cmp).1
