@@ -161,6 +161,13 @@ pub fn explain(image: &Image, facts: &RenderFacts<'_>) -> Vec<String> {
             ));
         }
     }
+    let geometry = &facts.scene.geometry;
+    if geometry.triangle_count() + geometry.sphere_count() == 0 {
+        lines.push(format!(
+            "{file} has no geometry (`objects:` is empty): nothing can be lit or seen"
+        ));
+        return lines;
+    }
     if camera_sees_nothing(facts.scene) {
         lines.push("no camera ray hits any geometry: the camera looks away from the scene".into());
     }

@@ -253,6 +253,21 @@ fn a_black_image_is_explained() {
         };
         assert!(log.contains(path_line), "{log}");
     }
+    // Lights only (`objects:` may be empty): every algorithm renders it (the `auto` radius
+    // once panicked here) and says why it is black.
+    let lights_only =
+        "camera: { position: [0, 1, 4], look_at: [0, 1, 0], up: [0, 1, 0], fov: 40 }\n\
+                       resolution: [8, 8]\nobjects:\nlights:\n  \
+                       - { type: point, position: [0, 2, 0], intensity: [1, 1, 1] }\n";
+    std::fs::write(dir.path().join("lights_only.yml"), lights_only).unwrap();
+    for algorithm in ["ppm", "sppm", "vcm", "pt"] {
+        let log = ok(dir.path(), &["lights_only.yml", "-n", "2", "-a", algorithm]);
+        assert!(
+            log.contains("0 rejected samples")
+                && log.contains("warning: lights_only.yml has no geometry"),
+            "{algorithm}: {log}"
+        );
+    }
     tiny_scene(dir.path());
     let log = ok(dir.path(), &["tiny.yml", "-n", "1"]);
     assert!(!log.contains("black"), "{log}");
