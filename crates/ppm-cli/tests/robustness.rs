@@ -129,6 +129,33 @@ fn sigterm_and_sighup_write_the_finished_iterations_and_exit_130() {
     }
 }
 
+/// One stop delivered twice at once, as coreutils `timeout` does (the child, then its
+/// process group) and as Slurm may: the same stop, not "quit without writing". Whether the
+/// kernel merges the two into one pending signal is a race, so each signal is tried four
+/// times: a handler that took the second for "quit" fails this almost surely.
+#[cfg(unix)]
+#[test]
+fn a_stop_signal_delivered_twice_at_once_still_writes_the_image() {
+    for signal in ["INT", "TERM", "INT", "TERM", "INT", "TERM", "INT", "TERM"] {
+        let dir = tempfile::tempdir().unwrap();
+        tiny_scene(dir.path());
+        let args = ["tiny.yml", "--time-limit", "1000", "--checkpoint", "0.01"];
+        let (child, lines) = spawn(dir.path(), &args);
+        wait_for_file(&dir.path().join("tiny.exr"));
+        let status = std::process::Command::new("sh")
+            .args(["-c", &format!("kill -{signal} {0} {0}", child.id())])
+            .status()
+            .unwrap();
+        assert!(status.success());
+        let (code, err) = finish(child, lines);
+        assert_eq!(code, Some(130), "SIG{signal}: {err}");
+        assert!(
+            err.contains("wrote") && !err.contains("without writing"),
+            "SIG{signal}: {err}"
+        );
+    }
+}
+
 /// A stop during the first iteration (or the scene's loading) writes nothing: the previous
 /// render of the same name survives. The mirror box's first iteration is millions of
 /// bounces, so the stop arrives inside it, and the passes must see it (item 7): the test
