@@ -360,7 +360,8 @@ pub fn run(args: &RenderArgs, interrupt: &Interrupt) -> Result<Outcome> {
     if let Some((iteration, pixel)) = first_rejected {
         // The film's pixel index counts pixels of the crop window.
         status!(
-            "first rejected sample: iteration {iteration} (0-based), pixel ({}, {}), seed {}",
+            "first rejected sample (NaN, infinite, negative or above 7.2e16: left out of the \
+             image): iteration {iteration} (0-based), pixel ({}, {}), seed {}",
             bounds.x0 + pixel % bounds.width(),
             bounds.y0 + pixel / bounds.width(),
             args.settings.seed

@@ -50,9 +50,10 @@ impl Image {
 pub const FIXED_POINT_BITS: u32 = 48;
 /// 2^FIXED_POINT_BITS.
 const FIXED_POINT_SCALE: f64 = (1u64 << FIXED_POINT_BITS) as f64;
-/// The largest estimate added as it is: 2^56 (7.2e16, far beyond any radiance a scene of
-/// this renderer produces); larger ones are clamped to it. 2^24 iterations of clamped estimates still fit in a u128
-/// sum (2^(56 + 48 + 24) = 2^128); beyond that the sum saturates at u128::MAX.
+/// The largest estimate the film adds: 2^56 (7.2e16, far beyond the radiance of any
+/// physical scene); larger ones are rejected like NaN (dropped and counted, never silently
+/// clamped). 2^24 iterations of estimates this large still fit in a u128 sum
+/// (2^(56 + 48 + 24) = 2^128); beyond that the sum saturates at u128::MAX.
 pub const MAX_ESTIMATE: f64 = (1u64 << 56) as f64;
 
 /// An estimate as a whole number of 2^-48 units (`e` finite and >= 0), clamped at
@@ -145,7 +146,7 @@ pub struct Film {
     /// The index of the first iteration accumulated (random streams are keyed by it).
     first_iteration: u64,
     iterations: u64,
-    /// Samples dropped because they were NaN or infinite.
+    /// Samples dropped because they were NaN, infinite, negative or above [`MAX_ESTIMATE`].
     rejected: u64,
     /// (iteration, pixel) of the first dropped sample: random streams are keyed by them, so
     /// the offending path can be traced again in isolation.
@@ -224,8 +225,9 @@ impl Film {
         &self.sum
     }
 
-    /// Adds one iteration: one estimate per pixel, row-major. Non-finite or negative estimates
-    /// are dropped (counted in [`Film::rejected`]) and count as zero.
+    /// Adds one iteration: one estimate per pixel, row-major. Non-finite or negative estimates,
+    /// and those above [`MAX_ESTIMATE`], are dropped (counted in [`Film::rejected`]) and count
+    /// as zero.
     pub fn add_iteration(&mut self, estimates: &[Vec3]) {
         /// Pixels per parallel work item.
         const CHUNK: usize = 4096;
@@ -251,7 +253,10 @@ impl Film {
                             let units = unsafe { to_fixed_small(f32::from_bits(b)) };
                             *c = saturating_add_fixed(*c, units);
                         }
-                    } else if e.is_finite() && e.min_element() >= 0.0 {
+                    } else if e.is_finite()
+                        && e.min_element() >= 0.0
+                        && e.max_element() as f64 <= MAX_ESTIMATE
+                    {
                         for (c, v) in s.iter_mut().zip(e.to_array()) {
                             *c = saturating_add_fixed(*c, to_fixed(v));
                         }
@@ -372,6 +377,22 @@ mod tests {
         assert_eq!(img.pixels[0], Vec3::splat(0.5));
         assert_eq!(img.pixels[1], Vec3::splat(2.0));
         assert_eq!(film.rejected(), 1);
+        assert_eq!(film.first_rejected(), Some((1, 0)));
+    }
+
+    /// Estimates beyond the film's range are rejected and counted, not clamped into the
+    /// image; the largest one is still added exactly.
+    #[test]
+    fn estimates_beyond_the_range_are_rejected_not_clamped() {
+        let max = MAX_ESTIMATE as f32;
+        let mut film = Film::new(3, 1);
+        let beyond = Vec3::new(1.0, max * 2.0, 1.0);
+        film.add_iteration(&[Vec3::splat(max), beyond, Vec3::splat(f32::INFINITY)]);
+        assert_eq!(film.rejected(), 2);
+        assert_eq!(film.first_rejected(), Some((0, 1)));
+        let img = film.image();
+        assert_eq!(img.pixels[0], Vec3::splat(max));
+        assert_eq!(img.pixels[1], Vec3::ZERO);
     }
 
     #[test]
@@ -465,7 +486,8 @@ mod tests {
                 assert_eq!(saturating_add_fixed(sum, units), sum.saturating_add(units));
             }
         }
-        // The film's two paths (every channel small, or not) add what the reference converts.
+        // The film's two paths (every channel small, or not) add what the reference converts;
+        // a pixel with a channel beyond MAX_ESTIMATE is rejected whole.
         let pixels: Vec<Vec3> = estimates
             .chunks_exact(3)
             .map(|c| Vec3::new(c[0], c[1], c[2]))
@@ -473,8 +495,15 @@ mod tests {
         let mut film = Film::new(pixels.len() as u32, 1);
         film.add_iteration(&pixels);
         film.add_iteration(&pixels);
+        let beyond = |e: &Vec3| e.max_element() as f64 > MAX_ESTIMATE;
+        let rejected = pixels.iter().filter(|e| beyond(e)).count() as u64;
+        assert!(rejected > 0, "no pixel beyond the range to test");
+        assert_eq!(film.rejected(), 2 * rejected);
         for (sum, e) in film.sums().iter().zip(&pixels) {
-            let expected = e.to_array().map(|v| reference_to(v) * 2);
+            let expected = match beyond(e) {
+                true => [0; 3],
+                false => e.to_array().map(|v| reference_to(v) * 2),
+            };
             assert_eq!(*sum, expected, "{e}");
         }
         let reference_from = |sum: u128| sum as f64 / FIXED_POINT_SCALE;
@@ -565,8 +594,8 @@ mod tests {
     #[test]
     fn sums_saturate_instead_of_wrapping() {
         let mut film = Film::new(1, 1);
-        let huge = Vec3::splat(f32::MAX);
-        // 2^56 per iteration clamped, 2^104 units each: 2^24 of them fill the u128.
+        let huge = Vec3::splat(MAX_ESTIMATE as f32);
+        // The largest estimate, 2^56, is 2^104 units: 2^24 of them fill the u128.
         film.sum[0] = [u128::MAX - 5; 3];
         film.add_iteration(&[huge]);
         assert_eq!(film.sum[0], [u128::MAX; 3]);
