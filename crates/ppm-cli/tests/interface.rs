@@ -273,6 +273,37 @@ fn a_black_image_is_explained() {
     assert!(!log.contains("black"), "{log}");
 }
 
+/// The path tracer says when a scene has light it cannot render: a point light seen
+/// through a mirror or glass. Photon mapping renders that light and does not warn; nor does
+/// the path tracer without the mirror.
+#[test]
+fn the_path_tracer_names_the_point_light_paths_it_misses() {
+    let dir = tempfile::tempdir().unwrap();
+    let mirror_box = TINY_SCENE
+        .replace(
+            "  white: { type: diffuse",
+            "  shiny: { type: mirror, color: [0.9, 0.9, 0.9] }\n  white: { type: diffuse",
+        )
+        .replace(
+            "edge_u: [0, 2, 0], edge_v: [0, 0, 2], material: red",
+            "edge_u: [0, 2, 0], edge_v: [0, 0, 2], material: shiny",
+        )
+        .replace(
+            "render:",
+            "lights:\n  - { type: point, position: [0, 1.5, 0], intensity: [1, 1, 1] }\nrender:",
+        );
+    std::fs::write(dir.path().join("mirror.yml"), &mirror_box).unwrap();
+    let warning = "the path tracer cannot render point-light light that passes a mirror";
+    let log = ok(dir.path(), &["mirror.yml", "-n", "1", "-a", "pt"]);
+    assert!(log.contains(warning), "{log}");
+    let log = ok(dir.path(), &["mirror.yml", "-n", "1", "-a", "ppm"]);
+    assert!(!log.contains(warning), "{log}");
+    let diffuse_box = mirror_box.replace("material: shiny", "material: red");
+    std::fs::write(dir.path().join("diffuse.yml"), diffuse_box).unwrap();
+    let log = ok(dir.path(), &["diffuse.yml", "-n", "1", "-a", "pt"]);
+    assert!(!log.contains(warning), "{log}");
+}
+
 #[test]
 fn spp_quiet_verbose_and_threads() {
     let dir = tempfile::tempdir().unwrap();

@@ -1,5 +1,6 @@
 //! The scene description: camera, materials, geometry and lights. Immutable during a render.
 
+use crate::bsdf::BsdfFlags;
 use crate::camera::Camera;
 use crate::geometry::{Geometry, Hit, Ray, Sphere, TriangleMesh};
 use crate::light::{EmissionSample, Light, PointLight};
@@ -289,6 +290,27 @@ impl Scene {
         let mut s = light.sample_emission(u_pos, u_dir);
         s.flux /= p_light;
         Some(s)
+    }
+
+    /// True if the scene has a point light and a surface whose material has a perfectly
+    /// specular lobe (mirror, glass). Light from a point light that meets such a lobe before a diffuse or
+    /// glossy surface (the point light's caustics, its image in a mirror, its light through
+    /// glass) is carried by paths a unidirectional path tracer never samples: a camera path
+    /// cannot hit a point, and light sampling cannot connect through a delta lobe. That light
+    /// is missing from a path-traced image; photon mapping and VCM trace it from the light.
+    pub fn has_point_light_behind_specular(&self) -> bool {
+        let point = self.lights.iter().any(|l| matches!(l, Light::Point(_)));
+        if !point {
+            return false;
+        }
+        let specular = |m: u32| {
+            let flags = self.materials[m as usize].bsdf.flags();
+            flags.contains(BsdfFlags::SPECULAR)
+        };
+        let g = &self.geometry;
+        let triangles = g.triangle_count();
+        (0..triangles).any(|i| specular(g.triangle(i as u32).1))
+            || (0..g.sphere_count()).any(|i| specular(g.sphere((triangles + i) as u32).material))
     }
 
     /// Length of the diagonal of the scene's bounding box.
