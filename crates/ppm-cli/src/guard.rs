@@ -19,7 +19,7 @@ pub fn refuse_overwriting_inputs(paths: &OutputPaths, inputs: &[(&str, &Path)]) 
         for (what, input) in inputs {
             if same_file(output, input) {
                 bail!(
-                    "the output {} is the {what} {}: the render would overwrite its own input; \
+                    "the output {} is the {what} {}: ppm would overwrite its own input; \
                      choose another output name with -o",
                     output.display(),
                     input.display()

@@ -140,6 +140,16 @@ fn check_algorithm_options(args: &RenderArgs, algorithm: AlgorithmArg) -> Result
             args.aov[0].name()
         );
     }
+    if let (Some((_, count)), AlgorithmArg::Sppm) = (args.shard, algorithm) {
+        if count > 1 {
+            bail!(
+                "--shard {}/{count}: sppm cannot be split into shards: each iteration's \
+                 per-pixel radii and statistics depend on all iterations before it. Shard \
+                 -a ppm or -a vcm, or continue an sppm render with --resume",
+                args.shard.map_or(0, |s| s.0)
+            );
+        }
+    }
     Ok(iterations)
 }
 

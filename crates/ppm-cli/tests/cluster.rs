@@ -359,6 +359,9 @@ fn merge_refuses_overlapping_or_missing_slices() {
     );
     assert!(!d.join("m.exr").exists(), "nothing written on refusal");
     ok(d, &["merge", "s2.exr", "s1.exr", "s0.exr", "-o", "m"]);
+    // The output may not replace a part: the shard would be gone.
+    let err = refused(d, &["merge", "s2.exr", "s1.exr", "s0.exr", "-o", "s1"]);
+    assert!(err.contains("s1.exr") && err.contains("own input"), "{err}");
 }
 
 #[test]
@@ -406,6 +409,11 @@ fn resume_refuses_another_scene_or_settings_and_shard_needs_iterations() {
     assert_fails(&run(d, &["tiny.yml", "-n", "4", "--shard", "2/2"]), 2);
     let err = refused(d, &["tiny.yml", "-n", "2", "--shard", "0/3"]);
     assert!(err.contains("empty"), "{err}");
+    // SPPM's iterations depend on all before them: refused at once, for every shard.
+    for shard in ["0/2", "1/2"] {
+        let err = refused(d, &["tiny.yml", "-a", "sppm", "-n", "4", "--shard", shard]);
+        assert!(err.contains("sppm cannot be split into shards"), "{err}");
+    }
 }
 
 /// A state file of format 1 (before the sums were cut to the words they need: all four words,
