@@ -41,10 +41,27 @@ fn main() -> ExitCode {
         Ok(Outcome::Finished) => ExitCode::SUCCESS,
         Ok(Outcome::Interrupted) => ExitCode::from(EXIT_INTERRUPTED),
         Err(e) => {
-            status!("error: {e:#}");
+            status!("error: {}", error_message(&e));
             ExitCode::FAILURE
         }
     }
+}
+
+/// The error and its causes joined by ": ", as `{e:#}` prints them, but without a cause
+/// whose text the message before it already ends with: a library error that shows its
+/// cause in its own message and also returns it as its `source` (`cannot read x.obj: No
+/// such file or directory`) would otherwise print the cause twice.
+fn error_message(e: &anyhow::Error) -> String {
+    let mut message = String::new();
+    for cause in e.chain() {
+        let text = cause.to_string();
+        if message.is_empty() {
+            message = text;
+        } else if !message.ends_with(&text) {
+            message = format!("{message}: {text}");
+        }
+    }
+    message
 }
 
 fn run(cli: Cli) -> Result<Outcome> {
@@ -65,5 +82,42 @@ fn run(cli: Cli) -> Result<Outcome> {
             interrupt.install_handler()?;
             render::run(&cli.render, &interrupt)
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::error_message;
+    use anyhow::Context;
+
+    /// A cause already at the end of the message is not repeated; other causes are joined.
+    #[test]
+    fn a_cause_shown_by_its_error_is_not_repeated() {
+        #[derive(Debug)]
+        struct ShowsItsSource {
+            source: std::io::Error,
+        }
+        impl std::fmt::Display for ShowsItsSource {
+            fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+                write!(f, "x.obj: cannot read mesh: {}", self.source)
+            }
+        }
+        impl std::error::Error for ShowsItsSource {
+            fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+                Some(&self.source)
+            }
+        }
+        let io = std::io::Error::new(std::io::ErrorKind::NotFound, "No such file");
+        let e = Err::<(), _>(ShowsItsSource { source: io })
+            .context("cannot load scene a.yml")
+            .unwrap_err();
+        assert_eq!(
+            error_message(&e),
+            "cannot load scene a.yml: x.obj: cannot read mesh: No such file"
+        );
+        let plain = Err::<(), _>(std::io::Error::other("disk full"))
+            .context("writing out.exr")
+            .unwrap_err();
+        assert_eq!(error_message(&plain), "writing out.exr: disk full");
     }
 }
