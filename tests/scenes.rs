@@ -128,12 +128,7 @@ fn a_scene_without_geometry_renders_black_with_every_algorithm() {
         intensity: Vec3::ONE,
     });
     let scene = builder.build().unwrap();
-    for algorithm in [
-        Algorithm::Path,
-        Algorithm::Ppm,
-        Algorithm::Sppm,
-        Algorithm::Vcm,
-    ] {
+    for algorithm in Algorithm::ALL {
         let settings = RenderSettings {
             algorithm,
             photons: 1000,

@@ -27,12 +27,7 @@ fn crop_window_pixels_equal_the_full_renders() {
         y1: 14,
         full_width: w,
     };
-    for algorithm in [
-        Algorithm::Path,
-        Algorithm::Ppm,
-        Algorithm::Sppm,
-        Algorithm::Vcm,
-    ] {
+    for algorithm in Algorithm::ALL {
         let settings = RenderSettings {
             algorithm,
             seed: 11,

@@ -70,12 +70,7 @@ fn max_depth_is_bounded_in_a_mirror_box() {
 #[test]
 fn an_abandoned_iteration_leaves_no_trace() {
     let scene = cornell(24, BoxContents::Diffuse);
-    for algorithm in [
-        Algorithm::Path,
-        Algorithm::Ppm,
-        Algorithm::Sppm,
-        Algorithm::Vcm,
-    ] {
+    for algorithm in Algorithm::ALL {
         let settings = RenderSettings {
             algorithm,
             photons: 5000,
@@ -122,12 +117,7 @@ fn an_abandoned_iteration_leaves_no_trace() {
 #[test]
 fn memory_estimates_cover_what_the_integrators_allocate() {
     let scene = cornell(32, BoxContents::Diffuse);
-    for algorithm in [
-        Algorithm::Path,
-        Algorithm::Ppm,
-        Algorithm::Sppm,
-        Algorithm::Vcm,
-    ] {
+    for algorithm in Algorithm::ALL {
         let settings = RenderSettings {
             algorithm,
             photons: 20_000,

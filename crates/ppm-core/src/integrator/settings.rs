@@ -24,6 +24,17 @@ pub enum Algorithm {
     Vcm,
 }
 
+impl Algorithm {
+    /// Every integrator, for tests and harnesses that check each one: a new integrator
+    /// added here gets all of their checks.
+    pub const ALL: [Algorithm; 4] = [
+        Algorithm::Path,
+        Algorithm::Ppm,
+        Algorithm::Sppm,
+        Algorithm::Vcm,
+    ];
+}
+
 /// Light paths per photon-mapping iteration when neither the scene nor the command line
 /// says (`ppm`; `sppm` scales its default with the image, see [`RenderSettings::for_algorithm`]).
 pub const DEFAULT_PHOTONS: u32 = 200_000;
