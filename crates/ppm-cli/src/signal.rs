@@ -7,9 +7,9 @@
 //! the exit status is [`EXIT_INTERRUPTED`].
 //!
 //! One stop often arrives twice: coreutils `timeout` signals the child and then its whole
-//! process group, which holds the child again; Slurm signals both the batch shell's group
-//! and the job step. Signals within [`REPEAT_WINDOW`] of the first are therefore the same
-//! request, not an order to quit without writing.
+//! process group, which holds the child again, and any supervisor that signals both a
+//! process and its group does the same. Signals within [`REPEAT_WINDOW`] of the first are
+//! therefore the same request, not an order to quit without writing.
 
 use anyhow::{Context, Result};
 use std::sync::atomic::{AtomicU32, Ordering};
