@@ -56,6 +56,13 @@ const FIXED_POINT_SCALE: f64 = (1u64 << FIXED_POINT_BITS) as f64;
 /// (2^(56 + 48 + 24) = 2^128); beyond that the sum saturates at u128::MAX.
 pub const MAX_ESTIMATE: f64 = (1u64 << 56) as f64;
 
+/// True if the film adds `e`: every channel finite, non-negative and at most
+/// [`MAX_ESTIMATE`]. Any other estimate is rejected (dropped and counted).
+#[inline]
+fn addable(e: Vec3) -> bool {
+    e.is_finite() && e.min_element() >= 0.0 && e.max_element() as f64 <= MAX_ESTIMATE
+}
+
 /// An estimate as a whole number of 2^-48 units (`e` finite and >= 0), clamped at
 /// [`MAX_ESTIMATE`]: e * 2^48 is exact in f64 (24 significant bits shifted), so only the
 /// rounding of values below 2^-25 loses anything.
@@ -253,10 +260,7 @@ impl Film {
                             let units = unsafe { to_fixed_small(f32::from_bits(b)) };
                             *c = saturating_add_fixed(*c, units);
                         }
-                    } else if e.is_finite()
-                        && e.min_element() >= 0.0
-                        && e.max_element() as f64 <= MAX_ESTIMATE
-                    {
+                    } else if addable(*e) {
                         for (c, v) in s.iter_mut().zip(e.to_array()) {
                             *c = saturating_add_fixed(*c, to_fixed(v));
                         }

@@ -1,7 +1,7 @@
 //! Sums of contributions splatted into arbitrary pixels during a pass (light-tracing
 //! connections to the camera), in the film's exact fixed-point units.
 
-use super::{from_fixed, saturating_add_fixed, to_fixed, MAX_ESTIMATE};
+use super::{addable, from_fixed, saturating_add_fixed, to_fixed};
 use glam::Vec3;
 
 /// Per-pixel sums of contributions that land in arbitrary pixels during a pass (light paths
@@ -31,13 +31,10 @@ impl SplatBuffer {
     }
 
     /// Adds `value` to pixel `pixel`; a NaN, infinite or negative value, or one above
-    /// [`MAX_ESTIMATE`], is dropped and counted.
+    /// [`MAX_ESTIMATE`](super::MAX_ESTIMATE), is dropped and counted.
     #[inline]
     pub fn add(&mut self, pixel: usize, value: Vec3) {
-        if value.is_finite()
-            && value.min_element() >= 0.0
-            && value.max_element() as f64 <= MAX_ESTIMATE
-        {
+        if addable(value) {
             for (c, v) in self.sum[pixel].iter_mut().zip(value.to_array()) {
                 *c = saturating_add_fixed(*c, to_fixed(v));
             }
