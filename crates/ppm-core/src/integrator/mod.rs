@@ -36,7 +36,8 @@ pub use ppm::{
     PpmRenderer, RadiusSchedule, MAX_LIGHT_PATHS,
 };
 pub use settings::{
-    Algorithm, DirectMode, LightStrategy, Radius, RenderSettings, DEFAULT_PHOTONS, MAX_DEPTH,
+    Algorithm, DirectMode, LightStrategy, Radius, RenderSettings, Setting, DEFAULT_PHOTONS,
+    MAX_DEPTH,
 };
 pub use shading::ShadingFrame;
 pub use snapshot::{PixelChannel, Snapshot};

@@ -35,6 +35,49 @@ impl Algorithm {
     ];
 }
 
+/// A render setting that some integrators read and the others ignore (the seed, the depths
+/// and the resolution every integrator reads).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Setting {
+    /// [`RenderSettings::photons`] (`--photons`).
+    Photons,
+    /// [`RenderSettings::radius`] (`--radius`).
+    Radius,
+    /// [`RenderSettings::alpha`] (`--alpha`).
+    Alpha,
+    /// [`RenderSettings::direct`] (`--direct`).
+    Direct,
+    /// [`RenderSettings::light_strategy`] (`--light-strategy`).
+    LightStrategy,
+}
+
+impl Setting {
+    /// Every setting that not all integrators read.
+    pub const ALL: [Setting; 5] = [
+        Setting::Photons,
+        Setting::Radius,
+        Setting::Alpha,
+        Setting::Direct,
+        Setting::LightStrategy,
+    ];
+}
+
+impl Algorithm {
+    /// True if the integrator reads `setting`; an integrator that does not renders the same
+    /// image whatever its value (the test `each_integrator_reads_the_settings_it_declares`
+    /// renders both ways). The path tracer traces no photons and merges nothing; VCM traces
+    /// one light path per pixel and lights every vertex by its own MIS (no `photons`, no
+    /// `direct`); the photon mappers take the light strategy of their eye paths as fixed.
+    pub fn reads(self, setting: Setting) -> bool {
+        use Algorithm::{Path, Ppm, Sppm, Vcm};
+        match setting {
+            Setting::Photons | Setting::Direct => matches!(self, Ppm | Sppm),
+            Setting::Radius | Setting::Alpha => matches!(self, Ppm | Sppm | Vcm),
+            Setting::LightStrategy => matches!(self, Path),
+        }
+    }
+}
+
 /// Light paths per photon-mapping iteration when neither the scene nor the command line
 /// says (`ppm`; `sppm` scales its default with the image, see [`RenderSettings::for_algorithm`]).
 pub const DEFAULT_PHOTONS: u32 = 200_000;
