@@ -3,7 +3,7 @@
 //! same thing (`--resume`, `ppm merge`).
 
 use anyhow::{bail, Context, Result};
-use ppm_core::integrator::{Algorithm, DirectMode, LightStrategy, RenderSettings};
+use ppm_core::integrator::{Algorithm, DirectMode, LightStrategy, RenderSettings, Setting};
 use std::collections::BTreeMap;
 use std::fmt;
 
@@ -76,6 +76,19 @@ pub struct Provenance {
     pub threads: String,
     /// The slice this image renders, when rendered with `--shard`.
     pub shard: Option<Shard>,
+}
+
+/// The setting an attribute of [`Provenance::identity`] records, if not every algorithm
+/// reads it.
+fn setting_named(attribute: &str) -> Option<Setting> {
+    match attribute {
+        "ppm.lightStrategy" => Some(Setting::LightStrategy),
+        "ppm.direct" => Some(Setting::Direct),
+        "ppm.photons" => Some(Setting::Photons),
+        "ppm.radius" => Some(Setting::Radius),
+        "ppm.alpha" => Some(Setting::Alpha),
+        _ => None,
+    }
 }
 
 /// Short names for the settings enums, as on the command line.
@@ -160,10 +173,22 @@ impl Provenance {
     /// The first setting in which `self` differs from `other`, as
     /// "<attribute>: <self's value> vs <other's value>", or None if they are parts of one
     /// render.
+    ///
+    /// A setting the algorithm does not read ([`Algorithm::reads`]) is not compared: it
+    /// changes no pixel, so a path-traced render continues with any `--photons`. (The
+    /// algorithm itself is compared before any setting.)
     pub fn difference(&self, other: &Provenance) -> Option<String> {
+        let algorithm = Algorithm::ALL
+            .into_iter()
+            .find(|&a| algorithm_name(a) == self.algorithm);
+        let read = |name: &str| match (algorithm, setting_named(name)) {
+            (Some(a), Some(setting)) => a.reads(setting),
+            _ => true,
+        };
         self.identity()
             .into_iter()
             .zip(other.identity())
+            .filter(|((name, _), _)| read(name))
             .find(|((_, a), (_, b))| a != b)
             .map(|((name, a), (_, b))| match name {
                 "ppm.sceneHash" => format!(
@@ -293,6 +318,49 @@ pub fn parse_shard_arg(s: &str) -> Result<(u64, u64), String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use ppm_core::integrator::Radius;
+
+    /// Two renders that differ in one setting are parts of one render exactly when their
+    /// algorithm does not read it: every such setting is recorded and named to `difference`.
+    #[test]
+    fn only_settings_the_algorithm_reads_tell_renders_apart() {
+        for algorithm in Algorithm::ALL {
+            let a = RenderSettings {
+                algorithm,
+                seed: 1,
+                max_depth: 8,
+                rr_depth: 3,
+                light_strategy: LightStrategy::Mis,
+                photons: 1000,
+                radius: Radius::World(0.1),
+                alpha: 0.7,
+                direct: DirectMode::Sampled,
+            };
+            for setting in Setting::ALL {
+                let mut b = a.clone();
+                match setting {
+                    Setting::Photons => b.photons = 2000,
+                    Setting::Radius => b.radius = Radius::Auto,
+                    Setting::Alpha => b.alpha = 0.5,
+                    Setting::Direct => b.direct = DirectMode::Photons,
+                    Setting::LightStrategy => b.light_strategy = LightStrategy::BsdfOnly,
+                }
+                let record = |s: &RenderSettings| Provenance::new("s.yml", 7, s, (4, 4), 1);
+                let difference = record(&a).difference(&record(&b));
+                assert_eq!(
+                    difference.is_some(),
+                    algorithm.reads(setting),
+                    "{algorithm:?}, {setting:?}: {difference:?}"
+                );
+            }
+            let other = RenderSettings {
+                seed: 2,
+                ..a.clone()
+            };
+            let record = |s: &RenderSettings| Provenance::new("s.yml", 7, s, (4, 4), 1);
+            assert!(record(&a).difference(&record(&other)).is_some());
+        }
+    }
 
     #[test]
     fn shards_tile_the_iterations() {

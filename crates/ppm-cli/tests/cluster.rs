@@ -171,6 +171,60 @@ fn resumed_render_equals_an_uninterrupted_one_for_pt_ppm_and_vcm() {
     }
 }
 
+/// A setting the algorithm does not read does not stop a render from continuing (or its parts
+/// from merging): a path-traced render continued with another `--photons` and `--radius` is
+/// still the uninterrupted render, and the same flags still refuse a ppm render.
+#[test]
+fn resume_and_merge_ignore_settings_the_algorithm_does_not_read() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    tiny_scene(d);
+    let base = ["tiny.yml", "-a", "pt", "--seed", "3"];
+    ok(d, &[&base[..], &["-n", "3", "-o", "whole"]].concat());
+    ok(d, &[&base[..], &["-n", "2", "-o", "first"]].concat());
+    let unread = ["--photons", "777", "--radius", "0.3"];
+    let resumed = [&base[..], &unread, &["-n", "1", "--resume", "first.exr"]].concat();
+    ok(d, &[&resumed[..], &["-o", "resumed"]].concat());
+    assert_same_image(d, "resumed", "whole", "pt resumed with unread flags");
+    ok(
+        d,
+        &[
+            &base[..],
+            &unread,
+            &["-n", "3", "--shard", "1/3", "-o", "s1"],
+        ]
+        .concat(),
+    );
+    ok(
+        d,
+        &[&base[..], &["-n", "3", "--shard", "0/3", "-o", "s0"]].concat(),
+    );
+    ok(
+        d,
+        &[&base[..], &["-n", "3", "--shard", "2/3", "-o", "s2"]].concat(),
+    );
+    ok(d, &["merge", "s0.exr", "s1.exr", "s2.exr", "-o", "merged"]);
+    assert_same_image(d, "merged", "whole", "pt merged with unread flags");
+    ok(d, &["tiny.yml", "-a", "ppm", "-n", "1", "-o", "p"]);
+    let err = refused(
+        d,
+        &[
+            "tiny.yml",
+            "-a",
+            "ppm",
+            "--photons",
+            "777",
+            "-n",
+            "1",
+            "--resume",
+            "p.exr",
+            "-o",
+            "q",
+        ],
+    );
+    assert!(err.contains("ppm.photons"), "{err}");
+}
+
 /// A render killed after a checkpoint resumes from that checkpoint to exactly the image of an
 /// uninterrupted render of as many iterations.
 #[test]
