@@ -161,26 +161,26 @@ pub struct SettingsArgs {
     /// Worker threads [default: all cores] (-t is threads, as in Mitsuba, not a time limit).
     #[arg(short = 't', long, value_parser = clap::value_parser!(u64).range(1..=4096), allow_negative_numbers = true)]
     pub threads: Option<u64>,
-    /// Photon mapping: light paths per iteration [default: scene file, else 200000 for ppm
+    /// ppm and sppm: light paths per iteration [default: scene file, else 200000 for ppm
     /// and one per pixel for sppm].
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..), allow_negative_numbers = true)]
     pub photons: Option<u32>,
-    /// Photon mapping: initial gather radius in scene units, or `auto` (each pixel's from its
+    /// ppm, sppm and vcm: initial gather radius in scene units, or `auto` (each pixel's from its
     /// footprint: 2 pixel widths at its first diffuse visible point) [default: scene file, or
     /// auto].
     #[arg(long, value_name = "R|auto", value_parser = gather_radius, allow_negative_numbers = true)]
     pub radius: Option<Radius>,
-    /// Photon mapping: radius reduction alpha in (0, 1].
+    /// ppm, sppm and vcm: radius reduction alpha in (0, 1].
     #[arg(long, value_parser = unit_interval, allow_negative_numbers = true)]
     pub alpha: Option<f32>,
     /// Longest eye or light path, in bounces (0: only light seen directly; at most 1024).
     #[arg(long)]
     pub max_depth: Option<u32>,
-    /// Photon mapping: direct light from photons or by light sampling [default: sampled, the
+    /// ppm and sppm: direct light from photons or by light sampling [default: sampled, the
     /// lower equal-time error measured on the Cornell box scenes]
     #[arg(long, value_enum)]
     pub direct: Option<DirectArg>,
-    /// Path tracing: how light is found (only mis is meant for production).
+    /// pt: how light is found (only mis is meant for production).
     #[arg(long, value_enum)]
     pub light_strategy: Option<LightStrategyArg>,
 }

@@ -177,6 +177,10 @@ pub fn run(args: &ConvergeArgs, interrupt: &Interrupt) -> Result<Outcome> {
         time_limit: Some(args.time_limit),
     };
     let algorithms = unique(args.algorithm.iter().copied());
+    setup::warn_unread_flags(&args.settings, &algorithms);
+    for &algorithm in &algorithms {
+        setup::warn_missing_light(&scene, algorithm, &scene_path);
+    }
     let mut runs = Vec::new();
     let mut threads = 0;
     setup::with_threads(args.settings.threads, || -> Result<()> {

@@ -10,7 +10,7 @@ use crate::signal::Interrupt;
 use crate::state_file;
 use crate::{guard, memory, setup};
 use anyhow::{bail, Context, Result};
-use ppm_core::integrator::{Algorithm, PassTimes, Renderer};
+use ppm_core::integrator::{PassTimes, Renderer};
 use ppm_core::scene::Scene;
 use std::path::Path;
 use std::time::{Duration, Instant};
@@ -195,15 +195,8 @@ pub fn run(args: &RenderArgs, interrupt: &Interrupt) -> Result<Outcome> {
         reference.as_ref().map(|r| (r.width, r.height)),
     )?;
     let settings = setup::render_settings(&scene, algorithm, &args.settings);
-    if settings.algorithm == Algorithm::Path && scene.has_point_light_behind_specular() {
-        status!(
-            "warning: {} has a point light and a mirror or glass surface: the path tracer \
-             cannot render point-light light that passes a mirror or glass before a diffuse \
-             surface (its caustics, its reflection); that light is missing from this image. \
-             -a ppm, sppm or vcm render it",
-            scene_path.display()
-        );
-    }
+    setup::warn_unread_flags(&args.settings, &[algorithm]);
+    setup::warn_missing_light(&scene, algorithm, &scene_path);
     memory::check(&scene, &settings)?;
     let camera = &scene.camera;
     let bounds = crate::crop::pixel_bounds(

@@ -3,7 +3,7 @@
 
 use crate::args::{AlgorithmArg, SettingsArgs};
 use anyhow::{bail, Context, Result};
-use ppm_core::integrator::{RenderSettings, MAX_DEPTH};
+use ppm_core::integrator::{Algorithm, RenderSettings, Setting, MAX_DEPTH};
 use ppm_core::scene::Scene;
 use std::path::{Path, PathBuf};
 
@@ -153,6 +153,57 @@ pub fn apply_overrides(
     }
     if let Some(v) = args.light_strategy {
         settings.light_strategy = v.into();
+    }
+}
+
+/// The flag that sets `setting`, and whether the command line gave it.
+fn flag(args: &SettingsArgs, setting: Setting) -> (&'static str, bool) {
+    match setting {
+        Setting::Photons => ("--photons", args.photons.is_some()),
+        Setting::Radius => ("--radius", args.radius.is_some()),
+        Setting::Alpha => ("--alpha", args.alpha.is_some()),
+        Setting::Direct => ("--direct", args.direct.is_some()),
+        Setting::LightStrategy => ("--light-strategy", args.light_strategy.is_some()),
+    }
+}
+
+/// Warns about each flag given that none of `algorithms` reads ([`Algorithm::reads`]): it
+/// changes nothing in the image, which a user who gave it would not expect. A warning, not an
+/// error: scripts that pass one set of flags to every algorithm keep working.
+pub fn warn_unread_flags(args: &SettingsArgs, algorithms: &[AlgorithmArg]) {
+    for setting in Setting::ALL {
+        let (name, given) = flag(args, setting);
+        if !given || algorithms.iter().any(|a| a.algorithm().reads(setting)) {
+            continue;
+        }
+        let names = |list: &mut dyn Iterator<Item = AlgorithmArg>| {
+            list.map(|a| a.name()).collect::<Vec<_>>().join(", ")
+        };
+        let readers = names(
+            &mut Algorithm::ALL
+                .into_iter()
+                .filter(|a| a.reads(setting))
+                .map(AlgorithmArg::from_algorithm),
+        );
+        status!(
+            "warning: {name} has no effect with -a {} and is ignored (it is read by {readers})",
+            names(&mut algorithms.iter().copied())
+        );
+    }
+}
+
+/// Warns when the path tracer renders a scene whose point-light paths through a mirror or
+/// glass surface it cannot sample (it is offered as the reference, so the missing light would
+/// otherwise pass for the truth).
+pub fn warn_missing_light(scene: &Scene, algorithm: AlgorithmArg, scene_path: &Path) {
+    if algorithm == AlgorithmArg::Pt && scene.has_point_light_behind_specular() {
+        status!(
+            "warning: {} has a point light and a mirror or glass surface: the path tracer \
+             cannot render point-light light that passes a mirror or glass before a diffuse \
+             surface (its caustics, its reflection); that light is missing from this image. \
+             -a ppm, sppm or vcm render it",
+            scene_path.display()
+        );
     }
 }
 

@@ -304,6 +304,57 @@ fn the_path_tracer_names_the_point_light_paths_it_misses() {
     assert!(!log.contains(warning), "{log}");
 }
 
+/// A flag the chosen algorithm does not read is named in a warning (the render goes on:
+/// scripts pass one set of flags to every algorithm); a flag it reads is not.
+#[test]
+fn flags_the_algorithm_ignores_are_named() {
+    let dir = tempfile::tempdir().unwrap();
+    tiny_scene(dir.path());
+    let photons = "--photons has no effect with -a pt";
+    let strategy = "--light-strategy has no effect with -a ppm";
+    let log = ok(
+        dir.path(),
+        &[
+            "tiny.yml",
+            "-n",
+            "1",
+            "-a",
+            "pt",
+            "--photons",
+            "500",
+            "--light-strategy",
+            "mis",
+        ],
+    );
+    assert!(
+        log.contains(photons) && !log.contains("--light-strategy has"),
+        "{log}"
+    );
+    let log = ok(
+        dir.path(),
+        &[
+            "tiny.yml",
+            "-n",
+            "1",
+            "-a",
+            "ppm",
+            "--photons",
+            "500",
+            "--light-strategy",
+            "mis",
+        ],
+    );
+    assert!(
+        log.contains(strategy) && !log.contains("--photons has"),
+        "{log}"
+    );
+    let log = ok(
+        dir.path(),
+        &["tiny.yml", "-n", "1", "-a", "vcm", "--radius", "0.2"],
+    );
+    assert!(!log.contains("warning"), "{log}");
+}
+
 #[test]
 fn spp_quiet_verbose_and_threads() {
     let dir = tempfile::tempdir().unwrap();
