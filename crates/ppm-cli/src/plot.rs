@@ -126,6 +126,26 @@ const COLORS: [RGBColor; 6] = [
     RGBColor(23, 190, 207),
 ];
 
+/// The plot's margin on every side, in pixels.
+const MARGIN: u32 = 16;
+
+/// The title's font size: 26 px, or the largest smaller size at which it fits `width` (a long
+/// scene or reference name would otherwise run off both sides of the centred caption).
+fn caption_size<DB: DrawingBackend>(
+    area: &DrawingArea<DB, plotters::coord::Shift>,
+    title: &str,
+    width: u32,
+) -> u32 {
+    const SIZES: [u32; 8] = [26, 24, 22, 20, 18, 16, 14, 12];
+    SIZES
+        .into_iter()
+        .find(|&size| {
+            area.estimate_text_size(title, &TextStyle::from((FAMILY, size).into_font()))
+                .is_ok_and(|(text_width, _)| text_width <= width)
+        })
+        .unwrap_or(SIZES[SIZES.len() - 1])
+}
+
 /// Draws the plot into an RGB8 buffer of [`PLOT_SIZE`].
 pub fn draw_plot(title: &str, curves: &[Curve]) -> Result<Vec<u8>> {
     register_font_once()?;
@@ -156,8 +176,8 @@ pub fn draw_plot(title: &str, curves: &[Curve]) -> Result<Vec<u8>> {
             )
         };
         let mut chart = ChartBuilder::on(&root)
-            .caption(title, (FAMILY, 26))
-            .margin(16)
+            .caption(title, (FAMILY, caption_size(&root, title, w - 2 * MARGIN)))
+            .margin(MARGIN)
             .x_label_area_size(56)
             .y_label_area_size(86)
             .build_cartesian_2d((x_lo..x_hi).log_scale(), (y_lo..y_hi).log_scale())?;
@@ -328,6 +348,19 @@ mod tests {
             dark_in_title > 50,
             "{dark_in_title} dark pixels in the title strip"
         );
+        // A long title is scaled to fit: no dark pixel in the caption strip's outer columns.
+        let title = "cornell_box_water: relMSE against render time (256x206, 2 threads, \
+                     reference cornell_box_water_reference.exr)";
+        let long = draw_plot(title, &[curve("pt", 1.0)]).unwrap();
+        let edge = (0..40usize)
+            .flat_map(|y| {
+                (0..8usize)
+                    .chain(PLOT_SIZE.0 as usize - 8..PLOT_SIZE.0 as usize)
+                    .map(move |x| (x, y))
+            })
+            .filter(|&(x, y)| long[y * row + 3 * x..][..3].iter().all(|&c| c < 100))
+            .count();
+        assert_eq!(edge, 0, "the title runs into the image's edge");
         // Both curve colors appear.
         for color in [COLORS[0], COLORS[1]] {
             let n = buffer
