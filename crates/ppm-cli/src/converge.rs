@@ -10,7 +10,7 @@ use crate::render::{render_loop, Outcome, StopRule};
 use crate::setup;
 use crate::signal::Interrupt;
 use anyhow::{Context, Result};
-use ppm_core::integrator::{Radius, Renderer};
+use ppm_core::integrator::{Radius, Renderer, Setting};
 use std::fmt::Write as _;
 use std::path::PathBuf;
 
@@ -87,12 +87,22 @@ pub fn curves(runs: &[Run]) -> Vec<Curve> {
     curves.into_iter().map(|(_, c)| c).collect()
 }
 
-/// The curves' legend labels with the photon mapping settings: `ppm (200000 photons, r 0.03)`.
+/// The curves' legend labels with the settings their algorithm reads: `ppm (200000 photons,
+/// r 0.03)`, `vcm (r auto)`, `pt`.
 fn labelled(mut curves: Vec<Curve>, runs: &[Run]) -> Vec<Curve> {
     for curve in &mut curves {
-        let run = runs.iter().find(|r| r.algorithm.name() == curve.label);
-        if let Some((photons, radius)) = run.and_then(|r| r.photons.zip(r.radius)) {
-            curve.label = format!("{} ({photons} photons, r {radius})", curve.label);
+        let Some(run) = runs.iter().find(|r| r.algorithm.name() == curve.label) else {
+            continue;
+        };
+        let parts: Vec<String> = [
+            run.photons.map(|p| format!("{p} photons")),
+            run.radius.map(|r| format!("r {r}")),
+        ]
+        .into_iter()
+        .flatten()
+        .collect();
+        if !parts.is_empty() {
+            curve.label = format!("{} ({})", curve.label, parts.join(", "));
         }
     }
     curves
@@ -221,13 +231,13 @@ pub fn run(args: &ConvergeArgs, interrupt: &Interrupt) -> Result<Outcome> {
                     totals.iterations,
                     totals.seconds
                 );
-                let ppm = algorithm != AlgorithmArg::Pt;
+                let reads = |setting| algorithm.algorithm().reads(setting);
                 runs.push(Run {
                     algorithm,
                     seed,
                     iterations: totals.iterations,
-                    photons: ppm.then_some(settings.photons),
-                    radius: ppm.then_some(settings.radius),
+                    photons: reads(Setting::Photons).then_some(settings.photons),
+                    radius: reads(Setting::Radius).then_some(settings.radius),
                     samples: tracker.samples,
                 });
             }
@@ -282,12 +292,13 @@ mod tests {
             })
             .collect();
         let ppm = algorithm == AlgorithmArg::Ppm;
+        let vcm = algorithm == AlgorithmArg::Vcm;
         Run {
             algorithm,
             seed,
             iterations: errors.len() as u64,
             photons: ppm.then_some(1000),
-            radius: ppm.then_some(Radius::World(0.25)),
+            radius: (ppm || vcm).then_some(Radius::World(0.25)),
             samples,
         }
     }
@@ -297,6 +308,7 @@ mod tests {
         let runs = [
             run(AlgorithmArg::Pt, 0, &[0.25, 0.0625]),
             run(AlgorithmArg::Ppm, 3, &[1.0]),
+            run(AlgorithmArg::Vcm, 1, &[0.5]),
         ];
         let context = CsvContext {
             threads: 2,
@@ -307,13 +319,14 @@ mod tests {
             "algorithm,seed,iteration,seconds,relmse,rmse,threads,photons,radius,reference\n\
              pt,0,1,0.500000,2.500000e-1,5.000000e-1,2,,,\"refs/a,b.exr\"\n\
              pt,0,2,1.000000,6.250000e-2,2.500000e-1,2,,,\"refs/a,b.exr\"\n\
-             ppm,3,1,0.500000,1.000000e0,1.000000e0,2,1000,0.25,\"refs/a,b.exr\"\n"
+             ppm,3,1,0.500000,1.000000e0,1.000000e0,2,1000,0.25,\"refs/a,b.exr\"\n\
+             vcm,1,1,0.500000,5.000000e-1,7.071068e-1,2,,0.25,\"refs/a,b.exr\"\n"
         );
         let labels: Vec<String> = labelled(curves(&runs), &runs)
             .into_iter()
             .map(|c| c.label)
             .collect();
-        assert_eq!(labels, ["pt", "ppm (1000 photons, r 0.25)"]);
+        assert_eq!(labels, ["pt", "ppm (1000 photons, r 0.25)", "vcm (r 0.25)"]);
     }
 
     #[test]
