@@ -4,7 +4,7 @@
 //! Both are half-open ranges from the top-left corner of the image; the output image is the
 //! crop's size, and its pixels equal the full render's there at the same seed.
 
-use anyhow::{bail, Result};
+use anyhow::Result;
 use ppm_core::pixel_bounds::PixelBounds;
 
 /// The pixels to render for a `width` x `height` image. A crop window [x0, x1) x [y0, y1) in
@@ -19,7 +19,7 @@ pub fn pixel_bounds(
         (None, None) => return Ok(PixelBounds::full(width, height)),
         (Some(c), _) => {
             let &[x0, x1, y0, y1] = c else {
-                bail!("--cropwindow takes four numbers: x0 x1 y0 y1");
+                usage_bail!("--cropwindow takes four numbers: x0 x1 y0 y1");
             };
             if !(0.0..=1.0).contains(&x0)
                 || !(0.0..=1.0).contains(&x1)
@@ -28,7 +28,7 @@ pub fn pixel_bounds(
                 || x0 >= x1
                 || y0 >= y1
             {
-                bail!(
+                usage_bail!(
                     "--cropwindow {x0} {x1} {y0} {y1}: expected fractions of the image with \
                      0 <= x0 < x1 <= 1 and 0 <= y0 < y1 <= 1"
                 );
@@ -36,7 +36,7 @@ pub fn pixel_bounds(
             let px = |f: f64, n: u32| ((f * n as f64).ceil() as u32).min(n);
             let b = (px(x0, width), px(x1, width), px(y0, height), px(y1, height));
             if b.0 >= b.1 || b.2 >= b.3 {
-                bail!(
+                usage_bail!(
                     "--cropwindow {x0} {x1} {y0} {y1} covers no pixel of the {width}x{height} image"
                 );
             }
@@ -44,10 +44,10 @@ pub fn pixel_bounds(
         }
         (None, Some(p)) => {
             let &[x0, x1, y0, y1] = p else {
-                bail!("--pixelbounds takes four numbers: x0 x1 y0 y1");
+                usage_bail!("--pixelbounds takes four numbers: x0 x1 y0 y1");
             };
             if x0 >= x1 || y0 >= y1 || x1 > width || y1 > height {
-                bail!(
+                usage_bail!(
                     "--pixelbounds {x0} {x1} {y0} {y1}: expected 0 <= x0 < x1 <= {width} and \
                      0 <= y0 < y1 <= {height} (the image is {width}x{height})"
                 );

@@ -3,6 +3,8 @@
 
 #[macro_use]
 mod console;
+#[macro_use]
+mod usage;
 mod args;
 mod bare_obj;
 mod black_image;
@@ -35,14 +37,19 @@ use signal::{Interrupt, EXIT_INTERRUPTED};
 use std::process::ExitCode;
 
 fn main() -> ExitCode {
-    // Usage errors exit with status 2 (clap's convention), --help and --version with 0.
+    // Usage errors exit with status 2 (clap's convention, and ours for the usage errors
+    // found after parsing), --help and --version with 0, other errors with 1.
     let cli = Cli::parse();
     match run(cli) {
         Ok(Outcome::Finished) => ExitCode::SUCCESS,
         Ok(Outcome::Interrupted) => ExitCode::from(EXIT_INTERRUPTED),
         Err(e) => {
             status!("error: {}", error_message(&e));
-            ExitCode::FAILURE
+            if usage::is_usage(&e) {
+                ExitCode::from(2)
+            } else {
+                ExitCode::FAILURE
+            }
         }
     }
 }

@@ -9,7 +9,7 @@ use crate::resume::{self, StartArgs};
 use crate::signal::Interrupt;
 use crate::state_file;
 use crate::{guard, memory, setup};
-use anyhow::{bail, Context, Result};
+use anyhow::{Context, Result};
 use ppm_core::integrator::{PassTimes, Renderer};
 use ppm_core::scene::Scene;
 use std::path::Path;
@@ -128,13 +128,13 @@ pub enum Outcome {
 fn check_algorithm_options(args: &RenderArgs, algorithm: AlgorithmArg) -> Result<Option<u64>> {
     let iterations = crate::report::requested_iterations(args, algorithm)?;
     if !args.aov.is_empty() && algorithm == AlgorithmArg::Pt {
-        bail!(
+        usage_bail!(
             "--aov {} needs photon mapping (-a ppm or -a sppm): the path tracer gathers no photons",
             args.aov[0].name()
         );
     }
     if !args.aov.is_empty() && algorithm == AlgorithmArg::Vcm {
-        bail!(
+        usage_bail!(
             "--aov {} needs photon mapping (-a ppm or -a sppm): VCM merges with one radius for \
              every pixel (the summary prints it) and weights its merges by MIS",
             args.aov[0].name()
@@ -142,7 +142,7 @@ fn check_algorithm_options(args: &RenderArgs, algorithm: AlgorithmArg) -> Result
     }
     if let (Some((_, count)), AlgorithmArg::Sppm) = (args.shard, algorithm) {
         if count > 1 {
-            bail!(
+            usage_bail!(
                 "--shard {}/{count}: sppm cannot be split into shards: each iteration's \
                  per-pixel radii and statistics depend on all iterations before it. Shard \
                  -a ppm or -a vcm, or continue an sppm render with --resume",
@@ -217,7 +217,7 @@ pub fn run(args: &RenderArgs, interrupt: &Interrupt) -> Result<Outcome> {
         crate::display::Display::start(address, &format!("ppm {name}"))
     });
     if cropped && (args.shard.is_some() || args.resume.is_some()) {
-        bail!(
+        usage_bail!(
             "--cropwindow and --pixelbounds render a part of the image, which --shard and \
              --resume do not take: render whole images to shard or resume them"
         );

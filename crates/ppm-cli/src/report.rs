@@ -2,7 +2,7 @@
 //! the `-v` lines printed before rendering.
 
 use crate::args::{AlgorithmArg, RenderArgs};
-use anyhow::{bail, Result};
+use anyhow::Result;
 use ppm_core::integrator::{Algorithm, DirectMode, Radius, RadiusSchedule, RenderSettings};
 use ppm_core::pixel_bounds::PixelBounds;
 use std::path::Path;
@@ -13,7 +13,7 @@ pub fn requested_iterations(args: &RenderArgs, algorithm: AlgorithmArg) -> Resul
     match (args.spp, algorithm.algorithm()) {
         (None, _) => Ok(args.iterations),
         (Some(spp), Algorithm::Path) => Ok(Some(spp)),
-        (Some(_), Algorithm::Ppm | Algorithm::Sppm | Algorithm::Vcm) => bail!(
+        (Some(_), Algorithm::Ppm | Algorithm::Sppm | Algorithm::Vcm) => usage_bail!(
             "--spp is for the path tracer (-a pt), where it equals -n. Photon mapping (-a ppm) \
              and VCM (-a vcm) render in iterations, each one camera path per pixel gathering a new photon map \
              with a smaller radius: give -n ITERATIONS instead"

@@ -38,10 +38,10 @@ pub fn plan(args: &StartArgs, provenance: &Provenance) -> Result<Start> {
         None => None,
         Some((index, count)) => {
             let Some(total) = args.iterations else {
-                bail!("--shard {index}/{count} needs -n, the iterations of the whole render");
+                usage_bail!("--shard {index}/{count} needs -n, the iterations of the whole render");
             };
             if count > total {
-                bail!("--shard {index}/{count}: {count} shards of {total} iterations (-n) would leave some empty");
+                usage_bail!("--shard {index}/{count}: {count} shards of {total} iterations (-n) would leave some empty");
             }
             Some(Shard {
                 index,

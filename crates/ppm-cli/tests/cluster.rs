@@ -461,11 +461,15 @@ fn resume_refuses_another_scene_or_settings_and_shard_needs_iterations() {
     // Usage errors: --shard without -n, or out of range.
     assert_fails(&run(d, &["tiny.yml", "--shard", "0/2"]), 2);
     assert_fails(&run(d, &["tiny.yml", "-n", "4", "--shard", "2/2"]), 2);
-    let err = refused(d, &["tiny.yml", "-n", "2", "--shard", "0/3"]);
+    let err = assert_fails(&run(d, &["tiny.yml", "-n", "2", "--shard", "0/3"]), 2);
     assert!(err.contains("empty"), "{err}");
-    // SPPM's iterations depend on all before them: refused at once, for every shard.
+    // SPPM's iterations depend on all before them: refused at once, for every shard (a
+    // usage error too).
     for shard in ["0/2", "1/2"] {
-        let err = refused(d, &["tiny.yml", "-a", "sppm", "-n", "4", "--shard", shard]);
+        let err = assert_fails(
+            &run(d, &["tiny.yml", "-a", "sppm", "-n", "4", "--shard", shard]),
+            2,
+        );
         assert!(err.contains("sppm cannot be split into shards"), "{err}");
     }
 }

@@ -216,7 +216,7 @@ fn a_crop_has_the_full_renders_pixels() {
             dir.path(),
             &["tiny.yml", "--pixelbounds", "0", "17", "0", "1"],
         ),
-        1,
+        2,
     );
     assert!(
         err.contains("--pixelbounds") && err.contains("16x12"),
@@ -368,7 +368,7 @@ fn spp_quiet_verbose_and_threads() {
             && log.contains("3 samples per pixel, max depth 6, 1 thread"),
         "{log}"
     );
-    let err = assert_fails(&run(dir.path(), &["tiny.yml", "--spp", "3"]), 1);
+    let err = assert_fails(&run(dir.path(), &["tiny.yml", "--spp", "3"]), 2);
     assert!(
         err.contains("--spp is for the path tracer") && err.contains("-n"),
         "{err}"
@@ -528,7 +528,7 @@ fn aov_images_are_written_beside_the_render() {
                 dir.path(),
                 &["tiny.yml", "-a", algorithm, "--aov", "photons"],
             ),
-            1,
+            2,
         );
         assert!(
             err.contains("--aov photons needs photon mapping"),
