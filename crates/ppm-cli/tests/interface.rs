@@ -310,42 +310,22 @@ fn the_path_tracer_names_the_point_light_paths_it_misses() {
 fn flags_the_algorithm_ignores_are_named() {
     let dir = tempfile::tempdir().unwrap();
     tiny_scene(dir.path());
-    let photons = "--photons has no effect with -a pt";
-    let strategy = "--light-strategy has no effect with -a ppm";
-    let log = ok(
-        dir.path(),
-        &[
-            "tiny.yml",
-            "-n",
-            "1",
-            "-a",
-            "pt",
-            "--photons",
-            "500",
-            "--light-strategy",
-            "mis",
-        ],
-    );
+    let both = |algorithm| {
+        let flags = ["--photons", "500", "--light-strategy", "mis"];
+        ok(
+            dir.path(),
+            &[&["tiny.yml", "-n", "1", "-a", algorithm][..], &flags].concat(),
+        )
+    };
+    let log = both("pt");
     assert!(
-        log.contains(photons) && !log.contains("--light-strategy has"),
+        log.contains("--photons has no effect with -a pt") && !log.contains("--light-strategy has"),
         "{log}"
     );
-    let log = ok(
-        dir.path(),
-        &[
-            "tiny.yml",
-            "-n",
-            "1",
-            "-a",
-            "ppm",
-            "--photons",
-            "500",
-            "--light-strategy",
-            "mis",
-        ],
-    );
+    let log = both("ppm");
     assert!(
-        log.contains(strategy) && !log.contains("--photons has"),
+        log.contains("--light-strategy has no effect with -a ppm")
+            && !log.contains("--photons has"),
         "{log}"
     );
     let log = ok(
