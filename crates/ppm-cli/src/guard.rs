@@ -4,6 +4,7 @@
 use crate::output::OutputPaths;
 use anyhow::{bail, Result};
 use std::fs;
+use std::io::Read as _;
 use std::path::Path;
 use std::time::{Duration, SystemTime};
 
@@ -15,12 +16,66 @@ pub const STALE_AGE: Duration = Duration::from_secs(10 * 60);
 /// Refuses a render whose PNG or EXR would replace one of its inputs: `ppm scene.png`, where
 /// `scene.png` is in fact the YAML scene, would otherwise overwrite the scene with its render.
 pub fn refuse_overwriting_inputs(paths: &OutputPaths, inputs: &[(&str, &Path)]) -> Result<()> {
-    for output in [&paths.png, &paths.exr] {
-        for (what, input) in inputs {
-            if same_file(output, input) {
+    refuse_replacing(
+        &[("output", &paths.png), ("output", &paths.exr)],
+        inputs,
+        "ppm would overwrite its own input; choose another output name with -o",
+    )
+}
+
+/// Refuses a render whose other outputs (`--error-log`, the `--aov` images) would replace an
+/// input (the scene, `--reference`, `--resume`'s file), one of the render's images or each
+/// other. Only the image may replace the file it resumes from (atomically, once the render
+/// is done); a log or an extra image written there would destroy it.
+pub fn refuse_replacing_by_extras(
+    extras: &[(&str, &Path)],
+    inputs: &[(&str, &Path)],
+    paths: &OutputPaths,
+) -> Result<()> {
+    let mut taken: Vec<(&str, &Path)> = inputs.to_vec();
+    taken.push(("output", &paths.png));
+    taken.push(("output", &paths.exr));
+    for (i, extra) in extras.iter().enumerate() {
+        let remedy = "ppm would overwrite it; choose another name";
+        refuse_replacing(std::slice::from_ref(extra), &taken, remedy)?;
+        refuse_replacing(std::slice::from_ref(extra), &extras[..i], remedy)?;
+    }
+    Ok(())
+}
+
+/// Refuses an `--error-log` path that holds a file other than an error log (whose first line
+/// is `header`): the log is rewritten from its first line, so a mesh, a scene or an image
+/// given there by mistake would be lost. An empty file or an earlier log may be replaced.
+pub fn refuse_replacing_non_log(path: &Path, header: &str) -> Result<()> {
+    use std::io::{BufRead, BufReader};
+    let Ok(file) = fs::File::open(path) else {
+        return Ok(());
+    };
+    let mut first = String::new();
+    // Only the first line is read (a binary file gives up at once or at its first bytes).
+    let _ = BufReader::new(file.take(4096)).read_line(&mut first);
+    if first.is_empty() || first.trim_end() == header {
+        return Ok(());
+    }
+    bail!(
+        "--error-log {} already exists and is not an error log (its first line is not `{header}`): \
+         ppm would overwrite it; give another file name or remove the file",
+        path.display()
+    )
+}
+
+/// Refuses when an output of `outputs` names the file (or the path) of one of `taken`, with
+/// `remedy` in the message.
+fn refuse_replacing(
+    outputs: &[(&str, &Path)],
+    taken: &[(&str, &Path)],
+    remedy: &str,
+) -> Result<()> {
+    for (role, output) in outputs {
+        for (what, input) in taken {
+            if same_file(output, input) || same_path(output, input) {
                 bail!(
-                    "the output {} is the {what} {}: ppm would overwrite its own input; \
-                     choose another output name with -o",
+                    "the {role} {} is the {what} {}: {remedy}",
                     output.display(),
                     input.display()
                 );
@@ -28,6 +83,19 @@ pub fn refuse_overwriting_inputs(paths: &OutputPaths, inputs: &[(&str, &Path)]) 
         }
     }
     Ok(())
+}
+
+/// True if the two paths name the same place: the same file name in the same folder (after
+/// links), whether the file exists or not.
+fn same_path(a: &Path, b: &Path) -> bool {
+    let place = |p: &Path| {
+        let folder = match p.parent() {
+            Some(f) if !f.as_os_str().is_empty() => f,
+            _ => Path::new("."),
+        };
+        Some((fs::canonicalize(folder).ok()?, p.file_name()?.to_owned()))
+    };
+    matches!((place(a), place(b)), (Some(x), Some(y)) if x == y)
 }
 
 /// True if both paths exist and name the same file (after links).

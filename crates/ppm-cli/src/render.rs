@@ -12,7 +12,7 @@ use crate::{guard, memory, setup};
 use anyhow::{Context, Result};
 use ppm_core::integrator::{PassTimes, Renderer};
 use ppm_core::scene::Scene;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 /// When a render stops: after `iterations`, or after the iteration that crosses `time_limit`
@@ -168,6 +168,21 @@ pub fn run(args: &RenderArgs, interrupt: &Interrupt) -> Result<Outcome> {
     let mut inputs = vec![("scene file", scene_path.as_path())];
     inputs.extend(args.reference.as_deref().map(|r| ("--reference", r)));
     guard::refuse_overwriting_inputs(&paths, &inputs)?;
+    inputs.extend(args.resume.as_deref().map(|r| ("--resume file", r)));
+    let aov_paths: Vec<(String, PathBuf)> = args
+        .aov
+        .iter()
+        .map(|aov| (format!("--aov {} image", aov.name()), paths.aov(aov.name())))
+        .collect();
+    let mut extras: Vec<(&str, &Path)> = aov_paths
+        .iter()
+        .map(|(role, path)| (role.as_str(), path.as_path()))
+        .collect();
+    extras.extend(args.error_log.as_deref().map(|log| ("--error-log", log)));
+    guard::refuse_replacing_by_extras(&extras, &inputs, &paths)?;
+    if let Some(log) = &args.error_log {
+        guard::refuse_replacing_non_log(log, crate::error_log::ErrorSample::CSV_HEADER)?;
+    }
     for stale in guard::clean_stale_temporaries(&paths) {
         status!("removed {}, left by a run that was killed", stale.display());
     }
