@@ -1,8 +1,8 @@
 //! `ppm compare A B`: the error of image A against the reference B.
 
 use crate::args::CompareArgs;
-use crate::output::read_image;
-use anyhow::{bail, Context, Result};
+use crate::output::{check_finite, read_image};
+use anyhow::{Context, Result};
 use ppm_core::film::Image;
 use ppm_core::metrics::{error_metrics, mean_rgb, ErrorMetrics};
 use std::fmt::Write;
@@ -17,22 +17,6 @@ pub fn compare_files(a: &Path, b: &Path) -> Result<(ErrorMetrics, String)> {
     let metrics = error_metrics(&image_a, &image_b)
         .with_context(|| format!("cannot compare {} with {}", a.display(), b.display()))?;
     Ok((metrics, report(a, &image_a, b, &image_b, &metrics)))
-}
-
-/// Errors if `image` holds a NaN or infinite value: every metric would be NaN or infinite,
-/// which says nothing (and a NaN compares false against any threshold a script tests).
-fn check_finite(image: &Image, path: &Path, what: &str) -> Result<()> {
-    let bad = image.pixels.iter().filter(|p| !p.is_finite()).count();
-    if let Some(i) = image.pixels.iter().position(|p| !p.is_finite()) {
-        let (x, y) = (i as u32 % image.width, i as u32 / image.width);
-        bail!(
-            "{what} {} has {bad} pixel(s) with NaN or infinite values (the first at ({x}, {y}): \
-             {}); the error metrics would be meaningless",
-            path.display(),
-            image.pixels[i]
-        );
-    }
-    Ok(())
 }
 
 /// The printed report: one line per image, then the metrics.

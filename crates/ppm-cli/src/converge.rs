@@ -174,7 +174,7 @@ pub fn run(args: &ConvergeArgs, interrupt: &Interrupt) -> Result<Outcome> {
     let (csv_path, plot_path) = converge_paths(&args.out, &scene_path);
     output::check_writable(&csv_path)?;
     output::check_writable(&plot_path)?;
-    let reference = output::read_image(&args.reference).context("reading --reference")?;
+    let reference = output::read_reference(&args.reference).context("reading --reference")?;
     let mut scene = setup::load_scene(&scene_path)?;
     setup::apply_resolution(
         &mut scene,

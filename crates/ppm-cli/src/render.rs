@@ -198,7 +198,7 @@ pub fn run(args: &RenderArgs, interrupt: &Interrupt) -> Result<Outcome> {
     let reference = args
         .reference
         .as_deref()
-        .map(|p| output::read_image(p).context("reading --reference"))
+        .map(|p| output::read_reference(p).context("reading --reference"))
         .transpose()?;
 
     let (mut scene, scene_hash) = setup::load_scene_hashed(&scene_path)?;

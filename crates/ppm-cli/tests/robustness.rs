@@ -508,6 +508,41 @@ fn compare_refuses_a_reference_with_nan() {
     assert!(err.contains("b.exr") && err.contains("NaN"), "{err}");
 }
 
+/// A render or `converge` against a reference with a NaN pixel is refused before it starts,
+/// as `compare` refuses it, instead of logging "relMSE NaN" (or a meaningless number) and
+/// exiting 0.
+#[test]
+fn render_and_converge_refuse_a_reference_with_nan() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    tiny_scene(d);
+    write_exr(&d.join("nan.exr"), 16, 12, |x, y| {
+        if (x, y) == (5, 7) {
+            [1.0, f32::NAN, 1.0]
+        } else {
+            [0.2; 3]
+        }
+    });
+    for args in [
+        &["tiny.yml", "-n", "1", "--reference", "nan.exr"][..],
+        &[
+            "converge",
+            "tiny.yml",
+            "--reference",
+            "nan.exr",
+            "--time-limit",
+            "0.1",
+        ],
+    ] {
+        let err = assert_fails(&run(d, args), 1);
+        assert!(
+            err.contains("nan.exr") && err.contains("NaN") && err.contains("(5, 7)"),
+            "{args:?}: {err}"
+        );
+    }
+    assert_eq!(file_names(d), ["nan.exr", "tiny.yml"]);
+}
+
 /// Unmounts a test's tmpfs when dropped.
 struct Unmount(std::path::PathBuf);
 

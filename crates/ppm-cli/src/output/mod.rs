@@ -17,7 +17,7 @@ mod srgb;
 mod write;
 
 pub use durable::{check_writable, create_log, log_line, write_atomic, PendingFile};
-pub use read::read_image;
+pub use read::{check_finite, read_image, read_reference};
 #[cfg(test)]
 pub use write::write_png;
 pub use write::{commit_pair, pending_png, write_exr, write_png_rgb8};

@@ -9,6 +9,31 @@ use std::fs::File;
 use std::io::BufReader;
 use std::path::Path;
 
+/// Errors if `image` holds a NaN or infinite value: every metric would be NaN or infinite,
+/// which says nothing (and a NaN compares false against any threshold a script tests).
+pub fn check_finite(image: &Image, path: &Path, what: &str) -> Result<()> {
+    let bad = image.pixels.iter().filter(|p| !p.is_finite()).count();
+    if let Some(i) = image.pixels.iter().position(|p| !p.is_finite()) {
+        let (x, y) = (i as u32 % image.width, i as u32 / image.width);
+        bail!(
+            "{what} {} has {bad} pixel(s) with NaN or infinite values (the first at ({x}, {y}): \
+             {}); the error metrics would be meaningless",
+            path.display(),
+            image.pixels[i]
+        );
+    }
+    Ok(())
+}
+
+/// Reads a reference image (`--reference`, `converge --reference`): as [`read_image`], and
+/// refused if a pixel is NaN or infinite, as `compare` refuses it: the error against it would
+/// be NaN, printed and logged as if it were a measurement.
+pub fn read_reference(path: &Path) -> Result<Image> {
+    let image = read_image(path)?;
+    check_finite(&image, path, "the reference")?;
+    Ok(image)
+}
+
 /// Reads an image as linear RGB: an OpenEXR file (its R, G, B channels), a Radiance .hdr file
 /// (what other renderers, SmallVCM among them, write) or, as a convenience, a PNG (decoded
 /// from sRGB).
