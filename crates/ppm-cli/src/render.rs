@@ -253,6 +253,17 @@ pub fn run(args: &RenderArgs, interrupt: &Interrupt) -> Result<Outcome> {
             threads,
         ),
     )?;
+    // A shard resumed from a file that already holds all its iterations (a requeued job
+    // whose work was done): nothing to render; the file's image is written as it is.
+    let already_complete = start.iterations == Some(0);
+    if let (true, Some(resumed), Some(shard)) =
+        (already_complete, &args.resume, start.provenance.shard)
+    {
+        status!(
+            "{} already holds every iteration of shard {shard}: nothing to render",
+            resumed.display()
+        );
+    }
     let provenance = start.provenance;
     // Render time of this run added to the earlier runs' of a resumed render.
     let provenance_after = |totals: &LoopTotals| Provenance {
@@ -350,7 +361,7 @@ pub fn run(args: &RenderArgs, interrupt: &Interrupt) -> Result<Outcome> {
         preview.finish(image.clone());
     }
 
-    if totals.iterations == 0 {
+    if totals.iterations == 0 && !already_complete {
         // Stopped during loading or the first iteration: an image of no iteration is black,
         // and must not replace the previous render of the same name.
         status!(

@@ -171,6 +171,38 @@ fn resumed_render_equals_an_uninterrupted_one_for_pt_ppm_and_vcm() {
     }
 }
 
+/// A requeued shard job whose part file already holds the whole shard renders nothing,
+/// says so and succeeds (exit 0, not "interrupted"), leaving a part the merge still takes.
+#[test]
+fn resuming_a_complete_shard_renders_nothing_and_succeeds() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    tiny_scene(d);
+    let shard = |i: &'static str| ["tiny.yml", "-n", "4", "--shard", i];
+    ok(d, &[&shard("0/2")[..], &["-o", "p0"]].concat());
+    ok(d, &[&shard("1/2")[..], &["-o", "p1"]].concat());
+    let before = exr_bits(&d.join("p1.exr"));
+    let output = run(
+        d,
+        &[&shard("1/2")[..], &["--resume", "p1.exr", "-o", "p1"]].concat(),
+    );
+    assert_ok(&output);
+    let log = stderr(&output);
+    assert!(
+        log.contains("already holds every iteration of shard 1/2"),
+        "{log}"
+    );
+    assert_eq!(exr_bits(&d.join("p1.exr")), before);
+    ok(d, &["merge", "p0.exr", "p1.exr", "-o", "merged"]);
+    ok(d, &["tiny.yml", "-n", "4", "-o", "whole"]);
+    assert_same_image(
+        d,
+        "merged",
+        "whole",
+        "merge after a complete shard was resumed",
+    );
+}
+
 /// A setting the algorithm does not read does not stop a render from continuing (or its parts
 /// from merging): a path-traced render continued with another `--photons` and `--radius` is
 /// still the uninterrupted render, and the same flags still refuse a ppm render.
