@@ -23,7 +23,9 @@ pub fn run(args: &MergeArgs) -> Result<()> {
     output::check_writable(&paths.exr)?;
     let mut parts = Vec::with_capacity(args.parts.len());
     for path in &args.parts {
-        parts.push((path.clone(), state_file::read(path)?));
+        let part = state_file::read(path)?;
+        part.provenance.refuse_crop(path, "merge")?;
+        parts.push((path.clone(), part));
     }
     let (snapshot, provenance) = merge(parts)?;
     state_file::write_outputs(&paths, &snapshot.film.image(), &snapshot, &provenance)?;

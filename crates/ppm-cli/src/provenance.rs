@@ -76,6 +76,9 @@ pub struct Provenance {
     pub threads: String,
     /// The slice this image renders, when rendered with `--shard`.
     pub shard: Option<Shard>,
+    /// The pixels a `--cropwindow` / `--pixelbounds` render covers, `x0 x1 y0 y1 of WxH`: a
+    /// part of the image, which is never resumed or merged as a whole one.
+    pub crop: Option<String>,
 }
 
 /// The setting an attribute of [`Provenance::identity`] records, if not every algorithm
@@ -148,6 +151,7 @@ impl Provenance {
             render_seconds: 0.0,
             threads: threads.to_string(),
             shard: None,
+            crop: None,
         }
     }
 
@@ -219,7 +223,23 @@ impl Provenance {
         if let Some(s) = self.shard {
             a.insert("ppm.shard", s.to_string());
         }
+        if let Some(c) = &self.crop {
+            a.insert("ppm.crop", c.clone());
+        }
         a
+    }
+
+    /// Refuses to `action` (resume, merge) the image at `path` if it is a crop: its pixels are
+    /// a part of the image, at other places than a whole image's of the same size.
+    pub fn refuse_crop(&self, path: &std::path::Path, action: &str) -> Result<()> {
+        if let Some(crop) = &self.crop {
+            bail!(
+                "cannot {action} {}: it is a crop (pixels {crop}), and only whole images can be \
+                 resumed or merged",
+                path.display()
+            );
+        }
+        Ok(())
     }
 
     /// Reads the attributes written by [`Provenance::to_attributes`] of an image of
@@ -288,6 +308,7 @@ impl Provenance {
             render_seconds: parse("ppm.renderSeconds", text("ppm.renderSeconds")?)?,
             threads: text("ppm.threads")?,
             shard,
+            crop: attributes.get("ppm.crop").cloned(),
         })
     }
 }

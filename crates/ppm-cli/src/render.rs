@@ -264,7 +264,13 @@ pub fn run(args: &RenderArgs, interrupt: &Interrupt) -> Result<Outcome> {
             resumed.display()
         );
     }
-    let provenance = start.provenance;
+    let mut provenance = start.provenance;
+    if cropped {
+        provenance.crop = Some(format!(
+            "{} {} {} {} of {}x{}",
+            bounds.x0, bounds.x1, bounds.y0, bounds.y1, camera.width, camera.height
+        ));
+    }
     // Render time of this run added to the earlier runs' of a resumed render.
     let provenance_after = |totals: &LoopTotals| Provenance {
         render_seconds: provenance.render_seconds + totals.seconds,

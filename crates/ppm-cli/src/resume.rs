@@ -66,6 +66,7 @@ pub fn plan(args: &StartArgs, provenance: &Provenance) -> Result<Start> {
     };
 
     let saved = state_file::read(path)?;
+    saved.provenance.refuse_crop(path, "resume")?;
     if let Some(difference) = provenance.difference(&saved.provenance) {
         bail!(
             "cannot resume {}: it is not a render of this scene and settings; they differ in \

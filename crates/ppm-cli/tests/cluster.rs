@@ -171,6 +171,55 @@ fn resumed_render_equals_an_uninterrupted_one_for_pt_ppm_and_vcm() {
     }
 }
 
+/// A crop records its pixels, and is neither resumed nor merged as a whole image of its own
+/// size (its pixels sit elsewhere in a whole image: the result would mix two images).
+#[test]
+fn a_crop_is_neither_resumed_nor_merged_as_a_whole_image() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    tiny_scene(d);
+    ok(
+        d,
+        &[
+            "tiny.yml",
+            "-n",
+            "2",
+            "--pixelbounds",
+            "8",
+            "16",
+            "0",
+            "6",
+            "-o",
+            "crop",
+        ],
+    );
+    assert_eq!(
+        attributes(&d.join("crop.exr"))["ppm.crop"],
+        "8 16 0 6 of 16x12"
+    );
+    // A whole render of the crop's size would otherwise pass every other check.
+    let same_size = ["tiny.yml", "--width", "8", "--height", "6"];
+    ok(
+        d,
+        &[&same_size[..], &["-n", "2", "--shard", "1/2", "-o", "half"]].concat(),
+    );
+    let err = refused(
+        d,
+        &[
+            &same_size[..],
+            &["-n", "1", "--resume", "crop.exr", "-o", "x"],
+        ]
+        .concat(),
+    );
+    assert!(
+        err.contains("cannot resume crop.exr: it is a crop"),
+        "{err}"
+    );
+    let err = refused(d, &["merge", "crop.exr", "half.exr", "-o", "x"]);
+    assert!(err.contains("cannot merge crop.exr: it is a crop"), "{err}");
+    assert!(!d.join("x.exr").exists());
+}
+
 /// A requeued shard job whose part file already holds the whole shard renders nothing,
 /// says so and succeeds (exit 0, not "interrupted"), leaving a part the merge still takes.
 #[test]
