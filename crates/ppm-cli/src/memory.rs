@@ -4,15 +4,16 @@
 //! instead of "memory allocation failed" and SIGABRT half-way.
 
 use anyhow::{bail, Context, Result};
-use ppm_core::integrator::{MemoryPart, RenderSettings, Renderer};
+use ppm_core::integrator::{Algorithm, MemoryPart, RenderSettings, Renderer, Snapshot};
 use ppm_core::scene::Scene;
 
 /// Environment variable that replaces the available memory (bytes, or with a K, M, G or T
 /// suffix in powers of 1024): set it to allow a render the check refuses, or to test.
 pub const MEMORY_LIMIT_VAR: &str = "PPM_MEMORY_LIMIT";
 
-/// Bytes per pixel of the output step on top of the integrator's estimate: the 8-bit PNG.
-const OUTPUT_BYTES_PER_PIXEL: u64 = 3;
+/// Bytes per pixel the output step allocates besides the snapshot: the f32 RGB image it
+/// writes, the EXR's f32 RGB channels and the 8-bit PNG.
+const OUTPUT_BYTES_PER_PIXEL: u64 = 12 + 12 + 3;
 
 /// Where the limit came from and its value.
 struct Limit {
@@ -27,17 +28,20 @@ pub fn check(scene: &Scene, settings: &RenderSettings) -> Result<()> {
     };
     let estimate = Renderer::memory_estimate(scene, settings);
     let (w, h) = (scene.camera.width, scene.camera.height);
-    let total = estimate
-        .total()
-        .saturating_add(w as u64 * h as u64 * OUTPUT_BYTES_PER_PIXEL);
+    // What the process holds already (the scene and its BVH, loaded before this check).
+    let loaded = crate::progress::rss_bytes().unwrap_or(0);
+    let total = loaded.saturating_add(peak_bytes(estimate.total(), w, h, settings.algorithm));
     if total <= limit.bytes {
         return Ok(());
     }
-    let parts: Vec<String> = estimate
+    let mut parts: Vec<String> = estimate
         .items
         .iter()
         .map(|item| format!("{} {}", part_name(item.part), gib(item.bytes)))
         .collect();
+    let saved = Snapshot::estimate_bytes(w, h, settings.algorithm);
+    parts.push(format!("saving the render state {}", gib(saved)));
+    parts.push(format!("the loaded scene {}", gib(loaded)));
     let culprit = match estimate.largest().map(|item| item.part) {
         Some(MemoryPart::Photons) => format!(
             "--photons {} (light paths per iteration; or render.photons in the scene)",
@@ -53,6 +57,18 @@ pub fn check(scene: &Scene, settings: &RenderSettings) -> Result<()> {
         gib(limit.bytes),
         limit.source
     )
+}
+
+/// The most a render of `w` x `h` pixels holds at once, from what its renderer allocates
+/// (`renderer`): at its end the renderer and the snapshot it hands over for saving
+/// ([`Snapshot::estimate_bytes`]); then, the renderer gone, the snapshot, its copy as EXR
+/// channels (each sum as at most four u32 words: the film's own size) and the images.
+fn peak_bytes(renderer: u64, w: u32, h: u32, algorithm: Algorithm) -> u64 {
+    let snapshot = Snapshot::estimate_bytes(w, h, algorithm);
+    let images = (w as u64 * h as u64).saturating_mul(OUTPUT_BYTES_PER_PIXEL);
+    let ending = renderer.saturating_add(snapshot);
+    let writing = snapshot.saturating_mul(2).saturating_add(images);
+    ending.max(writing)
 }
 
 fn part_name(part: MemoryPart) -> &'static str {

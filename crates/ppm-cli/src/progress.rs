@@ -65,10 +65,21 @@ pub fn peak_rss_bytes() -> Option<u64> {
     parse_vm_hwm(&status)
 }
 
+/// The memory the process holds now (VmRSS), on Linux; `None` elsewhere.
+pub fn rss_bytes() -> Option<u64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    status_kb(&status, "VmRSS:")
+}
+
 /// The `VmHWM:  1234 kB` line of /proc/self/status, in bytes.
 fn parse_vm_hwm(status: &str) -> Option<u64> {
-    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
-    let kb: u64 = line["VmHWM:".len()..]
+    status_kb(status, "VmHWM:")
+}
+
+/// The `<key>  1234 kB` line of /proc/self/status, in bytes.
+fn status_kb(status: &str, key: &str) -> Option<u64> {
+    let line = status.lines().find(|l| l.starts_with(key))?;
+    let kb: u64 = line[key.len()..]
         .trim()
         .trim_end_matches("kB")
         .trim()

@@ -4,7 +4,7 @@
 
 mod test_scenes;
 
-use ppm_core::integrator::{MemoryPart, MAX_DEPTH};
+use ppm_core::integrator::{MemoryPart, Snapshot, MAX_DEPTH};
 use ppm_core::light::MAX_LIGHT_POWER;
 use ppm_core::prelude::*;
 use std::sync::atomic::{AtomicU32, Ordering};
@@ -131,6 +131,13 @@ fn memory_estimates_cover_what_the_integrators_allocate() {
             estimate.total() >= held && estimate.total() <= 2 * held + 32 * 32 * 12,
             "{algorithm:?}: estimate {} vs {held} held",
             estimate.total()
+        );
+        // The saved state the render's end copies is counted exactly.
+        let snapshot = renderer.snapshot();
+        assert_eq!(
+            Snapshot::estimate_bytes(32, 32, algorithm),
+            snapshot.memory_bytes() as u64,
+            "{algorithm:?}: snapshot"
         );
         let photons = estimate.items.iter().any(|i| i.part == MemoryPart::Photons);
         assert_eq!(

@@ -14,6 +14,7 @@
 //!   without them is not a slice of the same render.
 
 use crate::film::Film;
+use crate::integrator::Algorithm;
 use crate::StateError;
 
 /// One value per pixel (row-major) that an integrator carries between iterations, stored as
@@ -56,6 +57,29 @@ impl Snapshot {
             ));
         }
         self.film.append(&later.film)
+    }
+
+    /// Bytes of the snapshot of a `width` x `height` render by `algorithm`
+    /// ([`crate::integrator::Renderer::snapshot`]): the film's exact sums and the per-pixel
+    /// channels (SPPM's statistics). A render's end holds it beside the renderer, and writing
+    /// it copies it once more, so the memory check counts it before the render starts.
+    pub fn estimate_bytes(width: u32, height: u32, algorithm: Algorithm) -> u64 {
+        let channels = match algorithm {
+            Algorithm::Sppm => crate::integrator::sppm::snapshot::CHANNELS,
+            Algorithm::Path | Algorithm::Ppm | Algorithm::Vcm => 0,
+        };
+        let per_pixel = std::mem::size_of::<[u128; 3]>() + channels * std::mem::size_of::<u32>();
+        (width as u64 * height as u64).saturating_mul(per_pixel as u64)
+    }
+
+    /// Bytes held: the film's sums and the per-pixel channels.
+    pub fn memory_bytes(&self) -> usize {
+        self.film.memory_bytes()
+            + self
+                .pixels
+                .iter()
+                .map(|c| c.values.len() * std::mem::size_of::<u32>())
+                .sum::<usize>()
     }
 
     /// The state of an integrator that carries nothing but its film between iterations (the

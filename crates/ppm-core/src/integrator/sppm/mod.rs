@@ -16,7 +16,7 @@
 
 mod grid;
 mod pixel;
-mod snapshot;
+pub(crate) mod snapshot;
 mod splat;
 mod visible_point;
 
@@ -112,12 +112,14 @@ impl SppmRenderer {
 
     /// What [`SppmRenderer::new`] and its iterations allocate for a `width` x `height` image:
     /// per pixel only (statistics, visible point, accumulator, the direct-light film, the
-    /// image, and at most 8 grid entries plus a bucket), whatever the photons per iteration.
+    /// image it keeps and the copy `image()` returns, and at most 8 grid entries plus a
+    /// bucket), whatever the photons per iteration.
     pub fn memory_estimate(width: u32, height: u32, _settings: &RenderSettings) -> MemoryEstimate {
         let pixels = width as u64 * height as u64;
         let per_pixel = (std::mem::size_of::<PixelStatistics>()
             + std::mem::size_of::<SplatPoint>()
             + std::mem::size_of::<Accumulator>()
+            + std::mem::size_of::<Vec3>()
             + 9 * std::mem::size_of::<u32>()) as u64;
         let mut estimate = MemoryEstimate::default();
         estimate.add(MemoryPart::Image, image_bytes(width, height));
@@ -435,8 +437,7 @@ impl SppmRenderer {
         let per_pixel = std::mem::size_of::<PixelStatistics>()
             + std::mem::size_of::<SplatPoint>()
             + std::mem::size_of::<Accumulator>()
-            + 2 * std::mem::size_of::<Vec3>()
-            + 3 * std::mem::size_of::<f64>();
-        self.image.len() * per_pixel + self.grid.memory_bytes()
+            + 2 * std::mem::size_of::<Vec3>();
+        self.image.len() * per_pixel + self.direct.memory_bytes() + self.grid.memory_bytes()
     }
 }

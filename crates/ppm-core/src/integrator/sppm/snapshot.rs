@@ -14,6 +14,9 @@ use crate::StateError;
 /// and high word of its bits).
 const FIELDS: [&str; 5] = ["r2", "n", "tau.r", "tau.g", "tau.b"];
 
+/// The per-pixel channels a snapshot holds: two u32 words for each of [`FIELDS`].
+pub(crate) const CHANNELS: usize = 2 * FIELDS.len();
+
 fn fields(s: &PixelStatistics) -> [f64; 5] {
     [s.r2, s.n, s.tau[0], s.tau[1], s.tau[2]]
 }
@@ -25,7 +28,7 @@ fn channel_name(field: &str, word: usize) -> String {
 
 /// The statistics as channels, bit for bit.
 pub(super) fn to_channels(statistics: &[PixelStatistics]) -> Vec<PixelChannel> {
-    let mut channels = Vec::with_capacity(2 * FIELDS.len());
+    let mut channels = Vec::with_capacity(CHANNELS);
     for (f, field) in FIELDS.iter().enumerate() {
         for word in 0..2 {
             let values = statistics
