@@ -8,7 +8,8 @@ use ppm_core::integrator::{Algorithm, MemoryPart, RenderSettings, Renderer, Snap
 use ppm_core::scene::Scene;
 
 /// Environment variable that replaces the available memory (bytes, or with a K, M, G or T
-/// suffix in powers of 1024): set it to allow a render the check refuses, or to test.
+/// suffix in powers of 1024) by a budget for the whole process, the scene already loaded
+/// included: set it to allow a render the check refuses, or to test.
 pub const MEMORY_LIMIT_VAR: &str = "PPM_MEMORY_LIMIT";
 
 /// Bytes per pixel the output step allocates besides the snapshot: the f32 RGB image it
@@ -19,6 +20,8 @@ const OUTPUT_BYTES_PER_PIXEL: u64 = 12 + 12 + 3;
 struct Limit {
     bytes: u64,
     source: String,
+    /// The limit is the whole process's (`PPM_MEMORY_LIMIT`), not what is still free.
+    whole_process: bool,
 }
 
 /// Errors if the render of `scene` with `settings` needs more memory than is available.
@@ -28,8 +31,12 @@ pub fn check(scene: &Scene, settings: &RenderSettings) -> Result<()> {
     };
     let estimate = Renderer::memory_estimate(scene, settings);
     let (w, h) = (scene.camera.width, scene.camera.height);
-    // What the process holds already (the scene and its BVH, loaded before this check).
-    let loaded = crate::progress::rss_bytes().unwrap_or(0);
+    // What the process holds already (the scene and its BVH, loaded before this check):
+    // part of a PPM_MEMORY_LIMIT budget; MemAvailable has it taken off already.
+    let loaded = match limit.whole_process {
+        true => crate::progress::rss_bytes().unwrap_or(0),
+        false => 0,
+    };
     let total = loaded.saturating_add(peak_bytes(estimate.total(), w, h, settings.algorithm));
     if total <= limit.bytes {
         return Ok(());
@@ -41,7 +48,9 @@ pub fn check(scene: &Scene, settings: &RenderSettings) -> Result<()> {
         .collect();
     let saved = Snapshot::estimate_bytes(w, h, settings.algorithm);
     parts.push(format!("saving the render state {}", gib(saved)));
-    parts.push(format!("the loaded scene {}", gib(loaded)));
+    if limit.whole_process {
+        parts.push(format!("the loaded scene {}", gib(loaded)));
+    }
     let culprit = match estimate.largest().map(|item| item.part) {
         Some(MemoryPart::Photons) => format!(
             "--photons {} (light paths per iteration; or render.photons in the scene)",
@@ -92,6 +101,7 @@ fn limit() -> Result<Option<Limit>> {
         return Ok(Some(Limit {
             bytes,
             source: format!("{MEMORY_LIMIT_VAR}={value}"),
+            whole_process: true,
         }));
     }
     let Ok(meminfo) = std::fs::read_to_string("/proc/meminfo") else {
@@ -100,6 +110,7 @@ fn limit() -> Result<Option<Limit>> {
     Ok(mem_available(&meminfo).map(|bytes| Limit {
         bytes,
         source: "MemAvailable in /proc/meminfo".to_string(),
+        whole_process: false,
     }))
 }
 
