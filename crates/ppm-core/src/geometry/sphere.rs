@@ -70,6 +70,11 @@ impl Sphere {
 /// found from the discriminant in the form b^2 - a c = a (r^2 - |f - (b/a) d|^2), which does not
 /// cancel catastrophically for a small sphere far away, and from q = -(b + sign(b) sqrt(a disc)):
 /// t0 = c / q, t1 = q / a, which avoids the cancellation in -b + sqrt(..) of the textbook form.
+///
+/// In double precision: c = |f|^2 - r^2 is the difference of two numbers of the size of r^2,
+/// so in single precision its error, about r^2 / 2^21, is the error of a hit near a large
+/// sphere's surface (a sphere of radius 1e6 as a ground plane: whole scene units). The inputs
+/// are exact in f64 and f = o - c is computed exactly, so only the last rounding to f32 is left.
 #[inline(always)]
 pub(crate) fn intersect_sphere(
     center: Vec3,
@@ -78,7 +83,9 @@ pub(crate) fn intersect_sphere(
     dir: Vec3,
     t_max: f32,
 ) -> Option<f32> {
-    let f = origin - center;
+    let f = DVec3::from(origin) - DVec3::from(center);
+    let dir = DVec3::from(dir);
+    let r = r as f64;
     let a = dir.length_squared();
     let b = f.dot(dir);
     let l = f - (b / a) * dir;
@@ -94,13 +101,15 @@ pub(crate) fn intersect_sphere(
     // |c| is only known to about a few ulps of |f|^2 + r^2: when it is that close to 0 the ray
     // starts on the surface (it was spawned there) and the root c / q ~ 0 is that surface
     // point itself, not a new hit.
-    let c_err = 8.0 * f32::EPSILON * (ff + r2);
+    let c_err = 8.0 * f64::EPSILON * (ff + r2);
     let (t0, t1) = if c.abs() <= c_err {
         (-1.0, q / a)
     } else {
         (c / q, q / a)
     };
     let (near, far) = if t0 < t1 { (t0, t1) } else { (t1, t0) };
+    // Rounded to f32 before the comparisons, so the caller's `t < t_max` sees the same value.
+    let (near, far) = (near as f32, far as f32);
     if near > 0.0 && near <= t_max {
         Some(near)
     } else if far > 0.0 && far <= t_max {
@@ -113,6 +122,27 @@ pub(crate) fn intersect_sphere(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A sphere of radius 1e6 used as a ground plane is hit where its surface is, within the
+    /// scene's own precision: from heights of 1 down to 0.001 (in single precision the near
+    /// root was lost below a height of about 1 and the ray went through the ground).
+    #[test]
+    fn a_huge_sphere_is_hit_where_its_surface_is() {
+        let ground = Sphere::new(Vec3::new(0.0, -1e6, 0.0), 1e6, 0);
+        for h in [1.0f32, 0.3, 0.01, 0.001] {
+            for (sin, cos) in [(0.0f32, 1.0f32), (0.8, 0.6)] {
+                let origin = Vec3::new(0.25, h, -0.5);
+                let dir = Vec3::new(sin, -cos, 0.0);
+                let t = ground.intersect(origin, dir, f32::INFINITY).unwrap();
+                // The plane's distance; the curvature moves it by less than 1e-6 here.
+                let expected = h / cos;
+                assert!(
+                    (t - expected).abs() <= 1e-5 * expected.max(1.0),
+                    "height {h}, cos {cos}: t {t}, expected {expected}"
+                );
+            }
+        }
+    }
 
     #[test]
     fn hits_near_side_from_outside_and_far_side_from_inside() {
