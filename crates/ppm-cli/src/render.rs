@@ -285,6 +285,10 @@ pub fn run(args: &RenderArgs, interrupt: &Interrupt) -> Result<Outcome> {
         time_limit: args.time_limit,
     };
     let mut tracker = reference.map(ErrorTracker::new);
+    // The error log counts the iterations and render time of the whole render: a resumed
+    // one goes on from those of the file it continues.
+    let (earlier_iterations, earlier_seconds) =
+        (start.snapshot.film.iterations(), provenance.render_seconds);
     let mut log = match &args.error_log {
         Some(path) => {
             let mut log = output::create_log(path)?;
@@ -326,7 +330,12 @@ pub fn run(args: &RenderArgs, interrupt: &Interrupt) -> Result<Outcome> {
                     progress.update(totals);
                     if let Some(tracker) = &mut tracker {
                         let sample = tracker
-                            .observe(totals.iterations, totals.seconds, last, || renderer.image())
+                            .observe(
+                                earlier_iterations + totals.iterations,
+                                earlier_seconds + totals.seconds,
+                                last,
+                                || renderer.image(),
+                            )
                             .context("comparing with --reference")?;
                         if let (Some(sample), Some((log, path))) = (sample, &mut log) {
                             output::log_line(log, path, &sample.csv_row())?;

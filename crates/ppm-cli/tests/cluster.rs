@@ -171,6 +171,62 @@ fn resumed_render_equals_an_uninterrupted_one_for_pt_ppm_and_vcm() {
     }
 }
 
+/// The error log of a resumed render goes on counting the render's iterations and time
+/// where the file it continues stopped, so the logs of one render split across runs join.
+#[test]
+fn a_resumed_renders_error_log_continues_the_count() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    tiny_scene(d);
+    ok(
+        d,
+        &[
+            "tiny.yml", "-a", "pt", "-n", "3", "--seed", "9", "-o", "ref",
+        ],
+    );
+    let base = ["tiny.yml", "-a", "pt", "--reference", "ref.exr"];
+    ok(
+        d,
+        &[&base[..], &["-n", "4", "--error-log", "a.csv", "-o", "r"]].concat(),
+    );
+    ok(
+        d,
+        &[
+            &base[..],
+            &[
+                "-n",
+                "2",
+                "--resume",
+                "r.exr",
+                "--error-log",
+                "b.csv",
+                "-o",
+                "r",
+            ],
+        ]
+        .concat(),
+    );
+    let rows = |name: &str| -> Vec<(u64, f64)> {
+        std::fs::read_to_string(d.join(name))
+            .unwrap()
+            .lines()
+            .skip(1)
+            .map(|l| {
+                let mut f = l.split(',');
+                (
+                    f.next().unwrap().parse().unwrap(),
+                    f.next().unwrap().parse().unwrap(),
+                )
+            })
+            .collect()
+    };
+    let (a, b) = (rows("a.csv"), rows("b.csv"));
+    assert_eq!(a.iter().map(|r| r.0).collect::<Vec<_>>(), [1, 2, 3, 4]);
+    assert_eq!(b.iter().map(|r| r.0).collect::<Vec<_>>(), [5, 6]);
+    // The file keeps its render time to the millisecond.
+    assert!(b[0].1 >= a[3].1 - 1e-3, "{a:?} then {b:?}");
+}
+
 /// A crop records its pixels, and is neither resumed nor merged as a whole image of its own
 /// size (its pixels sit elsewhere in a whole image: the result would mix two images).
 #[test]
