@@ -309,7 +309,10 @@ pub fn run(args: &RenderArgs, interrupt: &Interrupt) -> Result<Outcome> {
                     "{}",
                     crate::report::settings_line(
                         &settings,
-                        stop.iterations.unwrap_or(1),
+                        {
+                            let next = start.snapshot.film.next_iteration();
+                            next..next + stop.iterations.unwrap_or(1)
+                        },
                         rayon::current_num_threads()
                     )
                 );
@@ -408,7 +411,11 @@ pub fn run(args: &RenderArgs, interrupt: &Interrupt) -> Result<Outcome> {
     info!("{}", summary.passes_line());
     info!(
         "{}",
-        crate::report::settings_line(&settings, totals.iterations, threads)
+        crate::report::settings_line(
+            &settings,
+            snapshot.film.first_iteration()..snapshot.film.next_iteration(),
+            threads
+        )
     );
     if let Some((iteration, pixel)) = first_rejected {
         // The film's pixel index counts pixels of the crop window.

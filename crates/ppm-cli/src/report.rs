@@ -5,6 +5,7 @@ use crate::args::{AlgorithmArg, RenderArgs};
 use anyhow::Result;
 use ppm_core::integrator::{Algorithm, DirectMode, Radius, RadiusSchedule, RenderSettings};
 use ppm_core::pixel_bounds::PixelBounds;
+use std::ops::Range;
 use std::path::Path;
 
 /// The iterations a render with `algorithm` asks for: `-n`, or `--spp` (path tracing only:
@@ -38,8 +39,11 @@ pub fn radius_at(settings: &RenderSettings, iteration: u64) -> f32 {
 /// The summary's settings line, e.g. `seed 1, 200000 photons (light paths) per iteration,
 /// radius 0.03 -> 0.0112 (alpha 0.7), direct light sampled, max depth 32, 2 threads` for
 /// photon mapping and `seed 1, 16 samples per pixel, max depth 32, 2 threads` for the path
-/// tracer.
-pub fn settings_line(settings: &RenderSettings, iterations: u64, threads: usize) -> String {
+/// tracer. `image` is the range of iterations (0-based) the image holds: a resumed render's
+/// or a shard's radii are those of its own iterations (a shard of iterations 4..8 of a render
+/// used r_5 to r_8), and its samples per pixel are all those in the image.
+pub fn settings_line(settings: &RenderSettings, image: Range<u64>, threads: usize) -> String {
+    let iterations = image.end - image.start;
     let common = format!(
         "max depth {}, {threads} thread{}",
         settings.max_depth,
@@ -56,7 +60,7 @@ pub fn settings_line(settings: &RenderSettings, iterations: u64, threads: usize)
              direct light {}, {common}",
             settings.seed,
             settings.photons,
-            radius_words(settings, iterations),
+            radius_words(settings, image.clone()),
             settings.alpha,
             match settings.direct {
                 DirectMode::Photons => "from photons",
@@ -67,7 +71,7 @@ pub fn settings_line(settings: &RenderSettings, iterations: u64, threads: usize)
             "seed {}, one light path per pixel per iteration, merge radius {} (alpha {}), \
              {common}",
             settings.seed,
-            radius_words(settings, iterations),
+            radius_words(settings, image.clone()),
             settings.alpha,
         ),
     }
@@ -75,14 +79,17 @@ pub fn settings_line(settings: &RenderSettings, iterations: u64, threads: usize)
 
 /// The radius part of the settings line: `ppm`'s first -> last radius (world) or factor
 /// (`auto`), or for `sppm` the start (each pixel's radius then shrinks with its own photons).
-fn radius_words(settings: &RenderSettings, iterations: u64) -> String {
-    let last = radius_at(settings, iterations);
+fn radius_words(settings: &RenderSettings, image: Range<u64>) -> String {
+    let first = radius_at(settings, image.start + 1);
+    let last = radius_at(settings, image.end);
     match (settings.algorithm, settings.radius) {
         (Algorithm::Sppm, Radius::World(r)) => format!("{r} at the start, then per pixel"),
         (Algorithm::Sppm, Radius::Auto) => "auto (per pixel)".to_string(),
-        (Algorithm::Vcm, Radius::Auto) => format!("auto (median footprint), shrunk x1 -> x{last}"),
-        (_, Radius::World(r)) => format!("{r} -> {last}"),
-        (_, Radius::Auto) => format!("auto (per pixel), shrunk x1 -> x{last}"),
+        (Algorithm::Vcm, Radius::Auto) => {
+            format!("auto (median footprint), shrunk x{first} -> x{last}")
+        }
+        (_, Radius::World(_)) => format!("{first} -> {last}"),
+        (_, Radius::Auto) => format!("auto (per pixel), shrunk x{first} -> x{last}"),
     }
 }
 
@@ -125,12 +132,12 @@ mod tests {
     #[test]
     fn the_settings_used_are_said() {
         assert_eq!(
-            settings_line(&settings(Algorithm::Path), 16, 2),
+            settings_line(&settings(Algorithm::Path), 0..16, 2),
             "seed 5, 16 samples per pixel, max depth 8, 2 threads"
         );
         // r_i^2 = r_1^2 prod_{k=1}^{i-1} (k + alpha) / (k + 1): with alpha 0.5, r_3^2 =
         // 0.0016 * 0.75 * 2.5 / 3 = 0.001, r_3 = 0.0316...
-        let line = settings_line(&settings(Algorithm::Ppm), 3, 1);
+        let line = settings_line(&settings(Algorithm::Ppm), 0..3, 1);
         assert!(
             line.starts_with(
                 "seed 5, 1000 photons (light paths) per iteration, radius 0.04 -> 0.0316"
@@ -138,5 +145,15 @@ mod tests {
             "{line}"
         );
         assert_eq!(radius_at(&settings(Algorithm::Ppm), 1), 0.04);
+        // A resumed render or a shard holding iterations 2..3: r_3 only, one sample.
+        let line = settings_line(&settings(Algorithm::Ppm), 2..3, 1);
+        assert!(
+            line.contains("radius 0.0316") && line.contains("-> 0.0316"),
+            "{line}"
+        );
+        assert_eq!(
+            settings_line(&settings(Algorithm::Path), 4..16, 2),
+            "seed 5, 12 samples per pixel, max depth 8, 2 threads"
+        );
     }
 }
