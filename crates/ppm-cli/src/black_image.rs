@@ -103,12 +103,17 @@ pub fn lights_facing_away(builder: &SceneBuilder) -> Vec<FacingAway> {
         .collect()
 }
 
-/// True if no primary ray through a 16 x 16 grid of image positions hits anything.
+/// True if no primary ray through the centre of any pixel hits anything (on a grid of at most
+/// 512 x 512 positions for larger images: a quarter of a million rays, only for a black image).
 fn camera_sees_nothing(scene: &Scene) -> bool {
-    let (w, h) = (scene.camera.width as f32, scene.camera.height as f32);
-    !(0..16).any(|j| {
-        (0..16).any(|i| {
-            let film = Vec2::new((i as f32 + 0.5) * w / 16.0, (j as f32 + 0.5) * h / 16.0);
+    let (w, h) = (scene.camera.width, scene.camera.height);
+    let (nx, ny) = (w.min(512), h.min(512));
+    !(0..ny).any(|j| {
+        (0..nx).any(|i| {
+            let film = Vec2::new(
+                (i as f32 + 0.5) * w as f32 / nx as f32,
+                (j as f32 + 0.5) * h as f32 / ny as f32,
+            );
             scene.intersect(&scene.camera.generate_ray(film)).is_some()
         })
     })
@@ -160,6 +165,22 @@ pub fn explain(image: &Image, facts: &RenderFacts<'_>) -> Vec<String> {
                 d.z
             ));
         }
+    }
+    if mean > 0.0 {
+        // Some light arrives: the scene is dim (a weak or distant light, a small lit object),
+        // not broken, and none of the causes below (each of which leaves every pixel 0) holds.
+        let lit = image
+            .pixels
+            .iter()
+            .filter(|p| p.max_element() > 0.0)
+            .count();
+        lines.push(format!(
+            "{lit} of {} pixels received light: the scene is dimly lit or what is lit is small \
+             in the image; if it should be brighter, raise the lights' emission or move the \
+             camera closer",
+            image.pixels.len()
+        ));
+        return lines;
     }
     let geometry = &facts.scene.geometry;
     if geometry.triangle_count() + geometry.sphere_count() == 0 {
@@ -253,5 +274,40 @@ mod tests {
         let mut b = floor_and_lamp(true);
         b.add_sphere(Sphere::new(Vec3::new(0.0, 3.0, 0.0), 0.5, 0));
         assert_eq!(lights_facing_away(&b), []);
+    }
+
+    /// A dim image with some light in it is called dim, not broken: none of the causes that
+    /// leave every pixel 0 is claimed (the counters of a render that stored no photon with
+    /// direct light sampled, say, do not mean no light arrived).
+    #[test]
+    fn a_dim_image_is_not_explained_as_a_black_one() {
+        let builder = floor_and_lamp(false);
+        let scene = floor_and_lamp(false).build().unwrap();
+        let facts = RenderFacts {
+            scene_path: Path::new("dim.yml"),
+            scene: &scene,
+            builder: Some(&builder),
+            photon_mapping: true,
+            light_paths: 1000,
+            photons: 0,
+        };
+        let mut image = Image {
+            width: 8,
+            height: 8,
+            pixels: vec![Vec3::ZERO; 64],
+        };
+        let black = explain(&image, &facts);
+        assert!(
+            black.iter().any(|l| l.contains("stored a photon")),
+            "{black:?}"
+        );
+        image.pixels[9] = Vec3::splat(1e-3);
+        image.pixels[10] = Vec3::splat(1e-3);
+        let dim = explain(&image, &facts);
+        assert_eq!(dim.len(), 2, "{dim:?}");
+        assert!(
+            dim[0].contains("nearly black") && dim[1].starts_with("2 of 64 pixels"),
+            "{dim:?}"
+        );
     }
 }
