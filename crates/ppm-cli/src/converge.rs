@@ -9,7 +9,7 @@ use crate::progress::Progress;
 use crate::render::{render_loop, Outcome, StopRule};
 use crate::setup;
 use crate::signal::Interrupt;
-use anyhow::{Context, Result};
+use anyhow::{bail, Context, Result};
 use ppm_core::integrator::{Radius, Renderer, Setting};
 use std::fmt::Write as _;
 use std::path::PathBuf;
@@ -169,6 +169,12 @@ pub fn converge_paths(dir: &std::path::Path, scene: &std::path::Path) -> (PathBu
 /// Runs the subcommand.
 pub fn run(args: &ConvergeArgs, interrupt: &Interrupt) -> Result<Outcome> {
     let scene_path = setup::locate_scene(&args.scene)?;
+    if args.out.exists() && !args.out.is_dir() {
+        bail!(
+            "--out {} is a file: give the folder to write the CSV and the plot in",
+            args.out.display()
+        );
+    }
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("cannot create folder {}", args.out.display()))?;
     let (csv_path, plot_path) = converge_paths(&args.out, &scene_path);

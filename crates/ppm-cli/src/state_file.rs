@@ -135,6 +135,16 @@ pub fn write_outputs(
 /// Reads a render's saved state from an EXR written by [`write`]; errors name the file and
 /// what is missing or wrong.
 pub fn read(path: &Path) -> Result<SavedRender> {
+    let exr = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("exr"));
+    if !exr {
+        bail!(
+            "{} is not an EXR: only the EXR a render writes holds its state (the PNG beside it \
+             does not)",
+            path.display()
+        );
+    }
     read_inner(path).with_context(|| format!("cannot read the render state of {}", path.display()))
 }
 

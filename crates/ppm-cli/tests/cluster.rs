@@ -227,6 +227,37 @@ fn a_resumed_renders_error_log_continues_the_count() {
     assert!(b[0].1 >= a[3].1 - 1e-3, "{a:?} then {b:?}");
 }
 
+/// The PNG beside a render holds no state: `merge` and `--resume` say so instead of an EXR
+/// parser's "file identifier missing".
+#[test]
+fn a_png_is_refused_as_a_render_state_by_name() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    tiny_scene(d);
+    ok(d, &["tiny.yml", "-n", "1", "-o", "r"]);
+    for args in [
+        &["merge", "r.png", "r.exr", "-o", "m"][..],
+        &["tiny.yml", "-n", "1", "--resume", "r.png", "-o", "m"],
+    ] {
+        let err = refused(d, args);
+        assert!(err.contains("r.png is not an EXR"), "{args:?}: {err}");
+    }
+    let err = refused(
+        d,
+        &[
+            "converge",
+            "tiny.yml",
+            "--reference",
+            "r.exr",
+            "--time-limit",
+            "0.1",
+            "--out",
+            "r.png",
+        ],
+    );
+    assert!(err.contains("--out r.png is a file"), "{err}");
+}
+
 /// A crop records its pixels, and is neither resumed nor merged as a whole image of its own
 /// size (its pixels sit elsewhere in a whole image: the result would mix two images).
 #[test]
