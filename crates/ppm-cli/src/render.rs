@@ -153,6 +153,42 @@ fn check_algorithm_options(args: &RenderArgs, algorithm: AlgorithmArg) -> Result
     Ok(iterations)
 }
 
+/// Checks every output path before anything is rendered: none replaces an input or another
+/// output (see [`guard`]), stale temporaries of a killed run are removed, and each folder is
+/// writable. Fail now, not after an hour of rendering.
+fn check_outputs(args: &RenderArgs, paths: &output::OutputPaths, scene_path: &Path) -> Result<()> {
+    let mut inputs = vec![("scene file", scene_path)];
+    inputs.extend(args.reference.as_deref().map(|r| ("--reference", r)));
+    guard::refuse_overwriting_inputs(paths, &inputs)?;
+    inputs.extend(args.resume.as_deref().map(|r| ("--resume file", r)));
+    let aov_paths: Vec<(String, PathBuf)> = args
+        .aov
+        .iter()
+        .map(|aov| (format!("--aov {} image", aov.name()), paths.aov(aov.name())))
+        .collect();
+    let mut extras: Vec<(&str, &Path)> = aov_paths
+        .iter()
+        .map(|(role, path)| (role.as_str(), path.as_path()))
+        .collect();
+    extras.extend(args.error_log.as_deref().map(|log| ("--error-log", log)));
+    guard::refuse_replacing_by_extras(&extras, &inputs, paths)?;
+    if let Some(log) = &args.error_log {
+        guard::refuse_replacing_non_log(log, crate::error_log::ErrorSample::CSV_HEADER)?;
+    }
+    for stale in guard::clean_stale_temporaries(paths) {
+        status!("removed {}, left by a run that was killed", stale.display());
+    }
+    output::check_writable(&paths.png)?;
+    output::check_writable(&paths.exr)?;
+    if let Some(log) = &args.error_log {
+        output::check_writable(log)?;
+    }
+    for aov in &args.aov {
+        output::check_writable(&paths.aov(aov.name()))?;
+    }
+    Ok(())
+}
+
 /// `ppm [render] SCENE ...`: checks every input and output path, loads the scene, renders,
 /// writes the PNG and EXR and prints a summary.
 pub fn run(args: &RenderArgs, interrupt: &Interrupt) -> Result<Outcome> {
@@ -165,36 +201,7 @@ pub fn run(args: &RenderArgs, interrupt: &Interrupt) -> Result<Outcome> {
     let scene_arg = args.scene.as_deref().context("no scene file given")?;
     let scene_path = setup::locate_scene(scene_arg)?;
     let paths = output::output_paths(args.output.as_deref(), &scene_path)?;
-    let mut inputs = vec![("scene file", scene_path.as_path())];
-    inputs.extend(args.reference.as_deref().map(|r| ("--reference", r)));
-    guard::refuse_overwriting_inputs(&paths, &inputs)?;
-    inputs.extend(args.resume.as_deref().map(|r| ("--resume file", r)));
-    let aov_paths: Vec<(String, PathBuf)> = args
-        .aov
-        .iter()
-        .map(|aov| (format!("--aov {} image", aov.name()), paths.aov(aov.name())))
-        .collect();
-    let mut extras: Vec<(&str, &Path)> = aov_paths
-        .iter()
-        .map(|(role, path)| (role.as_str(), path.as_path()))
-        .collect();
-    extras.extend(args.error_log.as_deref().map(|log| ("--error-log", log)));
-    guard::refuse_replacing_by_extras(&extras, &inputs, &paths)?;
-    if let Some(log) = &args.error_log {
-        guard::refuse_replacing_non_log(log, crate::error_log::ErrorSample::CSV_HEADER)?;
-    }
-    for stale in guard::clean_stale_temporaries(&paths) {
-        status!("removed {}, left by a run that was killed", stale.display());
-    }
-    // Fail now, not after an hour of rendering.
-    output::check_writable(&paths.png)?;
-    output::check_writable(&paths.exr)?;
-    if let Some(log) = &args.error_log {
-        output::check_writable(log)?;
-    }
-    for aov in &args.aov {
-        output::check_writable(&paths.aov(aov.name()))?;
-    }
+    check_outputs(args, &paths, &scene_path)?;
     let reference = args
         .reference
         .as_deref()
