@@ -56,8 +56,9 @@ impl Interrupt {
         let this = self.clone();
         ctrlc::set_handler(move || match this.signal_at(Instant::now()) {
             StopRequest::Stop => status!(
-                "\nppm: interrupted: abandoning the iteration in progress, then writing the \
-                 image of the finished ones (stop again to quit at once)"
+                "\nppm: interrupted: abandoning the iteration in progress, then writing what \
+                 the finished ones give (a render's image, converge's CSV and plot; stop again \
+                 to quit at once)"
             ),
             StopRequest::Repeat => status!(
                 "ppm: the stop signal came again within {} s: still stopping and writing",
