@@ -4,7 +4,7 @@
 //! instead of "memory allocation failed" and SIGABRT half-way.
 
 use anyhow::{bail, Context, Result};
-use ppm_core::integrator::{Algorithm, MemoryPart, RenderSettings, Renderer, Snapshot};
+use ppm_core::integrator::{MemoryPart, RenderSettings, Renderer, Snapshot};
 use ppm_core::scene::Scene;
 
 /// Environment variable that replaces the available memory (bytes, or with a K, M, G or T
@@ -33,11 +33,13 @@ pub fn check(scene: &Scene, settings: &RenderSettings) -> Result<()> {
     let (w, h) = (scene.camera.width, scene.camera.height);
     // What the process holds already (the scene and its BVH, loaded before this check):
     // part of a PPM_MEMORY_LIMIT budget; MemAvailable has it taken off already.
-    let loaded = match limit.whole_process {
-        true => crate::progress::rss_bytes().unwrap_or(0),
-        false => 0,
+    let loaded = if limit.whole_process {
+        crate::progress::rss_bytes().unwrap_or(0)
+    } else {
+        0
     };
-    let total = loaded.saturating_add(peak_bytes(estimate.total(), w, h, settings.algorithm));
+    let saved = Snapshot::estimate_bytes(w, h, settings.algorithm);
+    let total = loaded.saturating_add(peak_bytes(estimate.total(), saved, w as u64 * h as u64));
     if total <= limit.bytes {
         return Ok(());
     }
@@ -46,7 +48,6 @@ pub fn check(scene: &Scene, settings: &RenderSettings) -> Result<()> {
         .iter()
         .map(|item| format!("{} {}", part_name(item.part), gib(item.bytes)))
         .collect();
-    let saved = Snapshot::estimate_bytes(w, h, settings.algorithm);
     parts.push(format!("saving the render state {}", gib(saved)));
     if limit.whole_process {
         parts.push(format!("the loaded scene {}", gib(loaded)));
@@ -68,13 +69,12 @@ pub fn check(scene: &Scene, settings: &RenderSettings) -> Result<()> {
     )
 }
 
-/// The most a render of `w` x `h` pixels holds at once, from what its renderer allocates
-/// (`renderer`): at its end the renderer and the snapshot it hands over for saving
+/// The most a render of `pixels` pixels holds at once, from what its renderer allocates
+/// (`renderer`): at its end the renderer and the `snapshot` it hands over for saving
 /// ([`Snapshot::estimate_bytes`]); then, the renderer gone, the snapshot, its copy as EXR
 /// channels (each sum as at most four u32 words: the film's own size) and the images.
-fn peak_bytes(renderer: u64, w: u32, h: u32, algorithm: Algorithm) -> u64 {
-    let snapshot = Snapshot::estimate_bytes(w, h, algorithm);
-    let images = (w as u64 * h as u64).saturating_mul(OUTPUT_BYTES_PER_PIXEL);
+fn peak_bytes(renderer: u64, snapshot: u64, pixels: u64) -> u64 {
+    let images = pixels.saturating_mul(OUTPUT_BYTES_PER_PIXEL);
     let ending = renderer.saturating_add(snapshot);
     let writing = snapshot.saturating_mul(2).saturating_add(images);
     ending.max(writing)

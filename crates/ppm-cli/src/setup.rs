@@ -176,20 +176,21 @@ pub fn warn_unread_flags(args: &SettingsArgs, algorithms: &[AlgorithmArg]) {
         if !given || algorithms.iter().any(|a| a.algorithm().reads(setting)) {
             continue;
         }
-        let names = |list: &mut dyn Iterator<Item = AlgorithmArg>| {
-            list.map(|a| a.name()).collect::<Vec<_>>().join(", ")
-        };
-        let readers = names(
-            &mut Algorithm::ALL
-                .into_iter()
-                .filter(|a| a.reads(setting))
-                .map(AlgorithmArg::from_algorithm),
-        );
+        let readers = Algorithm::ALL
+            .into_iter()
+            .filter(|a| a.reads(setting))
+            .map(AlgorithmArg::from_algorithm);
         status!(
-            "warning: {name} has no effect with -a {} and is ignored (it is read by {readers})",
-            names(&mut algorithms.iter().copied())
+            "warning: {name} has no effect with -a {} and is ignored (it is read by {})",
+            names(algorithms.iter().copied()),
+            names(readers)
         );
     }
+}
+
+/// The algorithms' command-line names, comma-separated.
+fn names(algorithms: impl Iterator<Item = AlgorithmArg>) -> String {
+    algorithms.map(|a| a.name()).collect::<Vec<_>>().join(", ")
 }
 
 /// Warns when the path tracer renders a scene whose point-light paths through a mirror or
