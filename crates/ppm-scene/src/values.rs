@@ -205,52 +205,88 @@ impl<'de, R: Rule> Visitor<'de> for TripleVisitor<R> {
     }
 }
 
+/// A whole number in `min..=max` as YAML may write it: `200000`, or `2e5` (which YAML reads
+/// as a float) as long as it is exactly whole. `what` says what is valid, for messages.
+struct WholeVisitor {
+    what: String,
+    min: i64,
+    max: i64,
+}
+
+impl WholeVisitor {
+    fn check<E: de::Error>(&self, x: i128) -> Result<i64, E> {
+        if (i128::from(self.min)..=i128::from(self.max)).contains(&x) {
+            Ok(x as i64)
+        } else {
+            Err(E::custom(format!("{x} is out of range, expected {self}")))
+        }
+    }
+}
+
+impl fmt::Display for WholeVisitor {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.what)
+    }
+}
+
+impl Visitor<'_> for WholeVisitor {
+    type Value = i64;
+    fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{self}")
+    }
+    fn visit_u64<E: de::Error>(self, x: u64) -> Result<i64, E> {
+        self.check(x.into())
+    }
+    fn visit_i64<E: de::Error>(self, x: i64) -> Result<i64, E> {
+        self.check(x.into())
+    }
+    fn visit_f64<E: de::Error>(self, x: f64) -> Result<i64, E> {
+        if !x.is_finite() || x.fract() != 0.0 {
+            return Err(E::custom(format!(
+                "{x} is not a whole number, expected {self}"
+            )));
+        }
+        if x.abs() >= i64::MAX as f64 {
+            return Err(E::custom(format!("{x:e} is out of range, expected {self}")));
+        }
+        self.check(x as i128)
+    }
+}
+
 impl<'de> Deserialize<'de> for Count {
     fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        struct V;
-        impl Visitor<'_> for V {
-            type Value = Count;
-            fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-                write!(f, "a whole number >= 1 (at most {})", u32::MAX)
-            }
-            fn visit_u64<E: de::Error>(self, x: u64) -> Result<Count, E> {
-                match u32::try_from(x) {
-                    Ok(n) if n > 0 => Ok(Count(n)),
-                    _ => Err(E::invalid_value(de::Unexpected::Unsigned(x), &self)),
-                }
-            }
-            fn visit_i64<E: de::Error>(self, x: i64) -> Result<Count, E> {
-                match u64::try_from(x) {
-                    Ok(n) => self.visit_u64(n),
-                    Err(_) => Err(E::invalid_value(de::Unexpected::Signed(x), &self)),
-                }
-            }
-        }
-        d.deserialize_u64(V)
+        let n = d.deserialize_any(WholeVisitor {
+            what: format!("a whole number >= 1 (at most {})", u32::MAX),
+            min: 1,
+            max: u32::MAX.into(),
+        })?;
+        Ok(Count(n as u32))
     }
 }
 
 impl<'de> Deserialize<'de> for Depth {
     fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        struct V;
-        impl Visitor<'_> for V {
-            type Value = Depth;
-            fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-                write!(f, "a whole number >= 0 (at most {})", u32::MAX)
-            }
-            fn visit_u64<E: de::Error>(self, x: u64) -> Result<Depth, E> {
-                u32::try_from(x)
-                    .map(Depth)
-                    .map_err(|_| E::invalid_value(de::Unexpected::Unsigned(x), &self))
-            }
-            fn visit_i64<E: de::Error>(self, x: i64) -> Result<Depth, E> {
-                match u64::try_from(x) {
-                    Ok(n) => self.visit_u64(n),
-                    Err(_) => Err(E::invalid_value(de::Unexpected::Signed(x), &self)),
-                }
-            }
-        }
-        d.deserialize_u64(V)
+        let n = d.deserialize_any(WholeVisitor {
+            what: format!("a whole number >= 0 (at most {})", u32::MAX),
+            min: 0,
+            max: u32::MAX.into(),
+        })?;
+        Ok(Depth(n as u32))
+    }
+}
+
+/// One side of [`Resolution`]: any whole number (the caller checks the range and names the
+/// side).
+struct Side(i64);
+
+impl<'de> Deserialize<'de> for Side {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        d.deserialize_any(WholeVisitor {
+            what: format!("a whole number of pixels in 1..={MAX_RESOLUTION}"),
+            min: i64::MIN,
+            max: i64::MAX,
+        })
+        .map(Side)
     }
 }
 
@@ -265,10 +301,10 @@ impl<'de> Deserialize<'de> for Resolution {
             fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Resolution, A::Error> {
                 let mut side = [0u32; 2];
                 for (i, s) in side.iter_mut().enumerate() {
-                    let x: i64 = seq
+                    let Side(x) = seq
                         .next_element()?
                         .ok_or_else(|| de::Error::invalid_length(i, &self))?;
-                    if !(1..=MAX_RESOLUTION as i64).contains(&x) {
+                    if !(1..=i64::from(MAX_RESOLUTION)).contains(&x) {
                         let name = ["width", "height"][i];
                         return Err(de::Error::custom(format!(
                             "{name} {x} is out of range, expected 1..={MAX_RESOLUTION} pixels"

@@ -229,7 +229,29 @@ fn bad_resolutions_are_errors() {
     let e = error(&valid_with("[64, 48]", "[64]"));
     has(&e, &["dir/bad.yml:2:", "resolution", "[width, height]"]);
     let e = error(&valid_with("[64, 48]", "[64.5, 48]"));
-    has(&e, &["dir/bad.yml:2:", "resolution"]);
+    has(
+        &e,
+        &[
+            "dir/bad.yml:2:",
+            "resolution[0]: 64.5 is not a whole number",
+        ],
+    );
+    let e = error(&valid_with("[64, 48]", "[64, 1e30]"));
+    has(&e, &["resolution[1]: 1e30 is out of range", "1..=16384"]);
+}
+
+/// YAML reads `2e5` as a float: a count or a size written that way is taken when it is
+/// whole (scene format v1 extended; whole numbers written as integers load as before).
+#[test]
+fn whole_numbers_may_be_written_with_an_exponent() {
+    let text = format!(
+        "{}render: {{ photons: 2e5, max_depth: 1.2e1 }}\n",
+        valid_with("[64, 48]", "[6.4e1, 48.0]")
+    );
+    let (b, _) = parse_scene(&text, Path::new("dir/ok.yml")).unwrap();
+    assert_eq!((b.camera.width, b.camera.height), (64, 48));
+    assert_eq!(b.defaults.photons, Some(200_000));
+    assert_eq!(b.defaults.max_depth, 12);
 }
 
 #[test]
@@ -321,7 +343,18 @@ fn bad_numbers_say_what_is_valid() {
         ("photons: 0", "render.photons"),
         ("max_depth: -1", "render.max_depth"),
         ("radius: -0.1", "render.radius"),
-        ("photons: 1e3", "render.photons"),
+        (
+            "photons: 1e10",
+            "render.photons: 10000000000 is out of range",
+        ),
+        (
+            "photons: 2.5e-1",
+            "render.photons: 0.25 is not a whole number",
+        ),
+        (
+            "max_depth: 8.5",
+            "render.max_depth: 8.5 is not a whole number",
+        ),
     ] {
         let e = error(&format!("{VALID}render: {{ {render} }}\n"));
         has(&e, &["dir/bad.yml:9:", needle]);
