@@ -46,6 +46,8 @@ pub fn parse_mtl(
 ) -> Result<Vec<MtlMaterial>, LoadError> {
     let mut materials: Vec<MtlMaterial> = Vec::new();
     let mut ignored: Vec<String> = Vec::new();
+    // Statements of no MTL dialect ppm knows (often a typo: `Kdd`), with their first line.
+    let mut unknown: Vec<(String, usize)> = Vec::new();
     for (i, raw) in text.lines().enumerate() {
         let line_no = i + 1;
         let line = raw.split('#').next().unwrap_or("").trim();
@@ -118,8 +120,21 @@ pub fn parse_mtl(
             }
             // Ka (ambient), Tr (its meaning differs between exporters), sharpness and the PBR
             // extension (Pr, Pm, ...) have no counterpart in ppm's BSDFs.
-            _ => {}
+            "ka" | "tr" | "sharpness" | "pr" | "pm" | "ps" | "pc" | "pcr" | "aniso" | "anisor" => {}
+            _ => {
+                if !unknown.iter().any(|(k, _)| k == keyword) {
+                    unknown.push((keyword.to_string(), line_no));
+                }
+            }
         }
+    }
+    if let Some((_, first)) = unknown.first() {
+        let names: Vec<&str> = unknown.iter().take(8).map(|(k, _)| k.as_str()).collect();
+        warnings.push(format!(
+            "{}:{first}: ignored unknown statements: {} (the first on this line)",
+            path.display(),
+            names.join(", ")
+        ));
     }
     if !ignored.is_empty() {
         warnings.push(format!(

@@ -289,3 +289,16 @@ fn mtl_oddities_warn_instead_of_failing() {
         );
     }
 }
+
+/// A statement of no MTL dialect (a typo, usually) is named with its first line; the ones
+/// exporters write and ppm has no use for (Ka, Tr, the PBR extension) are ignored silently.
+#[test]
+fn unknown_mtl_statements_are_named_and_known_unused_ones_are_not() {
+    let mut warnings = Vec::new();
+    let text = "newmtl a\nKa 0 0 0\nTr 0\nPr 0.5\nKdd 0.5 0.5 0.5\nKdd 1 1 1\nNss 10\n";
+    parse_mtl(text, Path::new("t.mtl"), &mut warnings).unwrap();
+    assert_eq!(
+        warnings,
+        ["t.mtl:5: ignored unknown statements: Kdd, Nss (the first on this line)"]
+    );
+}

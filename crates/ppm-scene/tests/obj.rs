@@ -137,6 +137,46 @@ fn lines_points_and_free_form_statements_are_ignored() {
     );
 }
 
+/// Skipped faces and texture coordinates out of range are counted, with the line of the
+/// first, so a user can find them in a large export.
+#[test]
+fn skipped_and_odd_faces_are_warned_about_with_their_first_line() {
+    let (data, warnings) = parse(&format!(
+        "{SQUARE}vt 0 0\nf 1 2\nf 1/1 2/1 3/1\nf 1/2 2/2 3/2\nf 2 3\nf 1/-3 3/1 4/1\n"
+    ));
+    assert_eq!(triangles(&data).len(), 3, "{warnings:?}");
+    let find = |needle: &str| {
+        warnings
+            .iter()
+            .find(|w| w.contains(needle))
+            .unwrap_or_else(|| panic!("no `{needle}` in {warnings:?}"))
+            .clone()
+    };
+    let short = find("fewer than 3 vertices");
+    assert!(
+        short.starts_with("mem/test.obj:6: skipped 2 faces") && short.contains("first"),
+        "{short}"
+    );
+    let texcoords = find("texture coordinate index out of range");
+    assert!(
+        texcoords.starts_with("mem/test.obj:8: 2 faces have"),
+        "{texcoords}"
+    );
+    let (_, warnings) = parse(&format!("{SQUARE}f 1 2\nl 1 2\n"));
+    assert!(
+        warnings
+            .iter()
+            .any(|w| w.starts_with("mem/test.obj:5: skipped 1 face with")),
+        "{warnings:?}"
+    );
+    assert!(
+        warnings
+            .iter()
+            .any(|w| w.starts_with("mem/test.obj:6: ignored 1 line or point element")),
+        "{warnings:?}"
+    );
+}
+
 #[test]
 fn face_errors_name_the_file_and_line() {
     let e = parse_err(&format!("{SQUARE}f 1 2 3\n\nf 1 2 9\n"));

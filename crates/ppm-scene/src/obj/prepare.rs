@@ -40,7 +40,11 @@ pub(super) fn prepare(
     // In a file with vertex normals, faces without them get their flat normal: tobj can
     // only give a mesh normals on all vertices or on none.
     let file_has_normals = text.lines().any(|l| l.trim_start().starts_with("vn"));
-    let (mut short_faces, mut skipped_elements) = (0usize, 0usize);
+    // Counts of what is skipped or ignored, with the line of the first occurrence.
+    let mut short_faces = Tally::default();
+    let mut bad_texcoords = Tally::default();
+    let mut skipped_elements = Tally::default();
+    let mut texcoords = 0usize;
     let mut unknown: Vec<String> = Vec::new();
 
     for (line_no, line) in logical_lines(text) {
@@ -76,13 +80,18 @@ pub(super) fn prepare(
             }
             "f" | "fo" => {
                 let mut vertices = Vec::with_capacity(args.len());
+                let mut texcoord_ok = true;
                 for token in &args {
-                    let (v, n) =
-                        face_vertex(token, positions.len(), normal_index.len(), path, line_no)?;
+                    let counts = (positions.len(), texcoords, normal_index.len());
+                    let (v, vt_ok, n) = face_vertex(token, counts, path, line_no)?;
+                    texcoord_ok &= vt_ok;
                     vertices.push((v, n.map(|n| normal_index[n - 1])));
                 }
+                if !texcoord_ok {
+                    bad_texcoords.add(line_no);
+                }
                 if vertices.len() < 3 {
-                    short_faces += 1;
+                    short_faces.add(line_no);
                     continue;
                 }
                 let mut flat = None;
@@ -131,8 +140,9 @@ pub(super) fn prepare(
             }
             // Texture coordinates and smoothing groups: ppm has no textures and shades with
             // the given vertex normals (or flat).
-            "vt" | "s" => {}
-            "l" | "p" => skipped_elements += 1,
+            "vt" => texcoords += 1,
+            "s" => {}
+            "l" | "p" => skipped_elements.add(line_no),
             other => {
                 if !unknown.iter().any(|u| u == other) {
                     unknown.push(other.to_string());
@@ -141,14 +151,29 @@ pub(super) fn prepare(
         }
     }
     let file = path.display();
-    if short_faces > 0 {
+    if let Some(first) = short_faces.first {
         warnings.push(format!(
-            "{file}: skipped {short_faces} faces with fewer than 3 vertices"
+            "{file}:{first}: skipped {} with fewer than 3 vertices{}",
+            plural(short_faces.count, "face", "faces"),
+            short_faces.more()
         ));
     }
-    if skipped_elements > 0 {
+    if let Some(first) = bad_texcoords.first {
         warnings.push(format!(
-            "{file}: ignored {skipped_elements} line and point elements (not surfaces)"
+            "{file}:{first}: {} a texture coordinate index out of range{}; ignored, as ppm has no textures",
+            plural(bad_texcoords.count, "face has", "faces have"),
+            bad_texcoords.more()
+        ));
+    }
+    if let Some(first) = skipped_elements.first {
+        warnings.push(format!(
+            "{file}:{first}: ignored {} (not surfaces){}",
+            plural(
+                skipped_elements.count,
+                "line or point element",
+                "line and point elements"
+            ),
+            skipped_elements.more()
         ));
     }
     if !unknown.is_empty() {
@@ -160,6 +185,38 @@ pub(super) fn prepare(
     }
     out.text.push_str(&body);
     Ok(out)
+}
+
+/// How often something happened, and on which line first.
+#[derive(Default)]
+struct Tally {
+    count: usize,
+    first: Option<usize>,
+}
+
+impl Tally {
+    fn add(&mut self, line_no: usize) {
+        self.count += 1;
+        self.first.get_or_insert(line_no);
+    }
+
+    /// Said after a count of several, so that the line number is read correctly.
+    fn more(&self) -> &'static str {
+        if self.count > 1 {
+            " (the first on this line)"
+        } else {
+            ""
+        }
+    }
+}
+
+/// "1 face", "3 faces".
+fn plural(n: usize, one: &str, many: &str) -> String {
+    if n == 1 {
+        format!("1 {one}")
+    } else {
+        format!("{n} {many}")
+    }
 }
 
 /// Lines with their 1-based numbers, a trailing `\` joining a line with the next.
@@ -198,14 +255,16 @@ fn numbers(
 }
 
 /// One `v`, `v/vt`, `v//vn` or `v/vt/vn` of a face, as absolute 1-based position and normal
-/// indices. Negative indices count back from the last element defined so far (-1 = last).
+/// indices, and whether its texture coordinate index (if any) names a `vt` defined so far;
+/// `counts` are the positions, texture coordinates and normals defined before this line.
+/// Negative indices count back from the last element defined so far (-1 = last).
 fn face_vertex(
     token: &str,
-    n_positions: usize,
-    n_normals: usize,
+    counts: (usize, usize, usize),
     path: &Path,
     line_no: usize,
-) -> Result<(usize, Option<usize>), LoadError> {
+) -> Result<(usize, bool, Option<usize>), LoadError> {
+    let (n_positions, n_texcoords, n_normals) = counts;
     let err = |message: String| LoadError::parse(path, line_no, message);
     let mut parts = token.split('/');
     let v = parts.next().unwrap_or("");
@@ -216,11 +275,17 @@ fn face_vertex(
             "face vertex `{token}` has more than three parts (v/vt/vn)"
         )));
     }
-    if !vt.is_empty() && vt.parse::<i64>().is_err() {
-        return Err(err(format!(
-            "face vertex `{token}`: `{vt}` is not a texture coordinate index"
-        )));
-    }
+    let texcoord_ok = match vt {
+        "" => true,
+        vt => match vt.parse::<i64>() {
+            Ok(i) => i != 0 && i.unsigned_abs() <= n_texcoords as u64,
+            Err(_) => {
+                return Err(err(format!(
+                    "face vertex `{token}`: `{vt}` is not a texture coordinate index"
+                )))
+            }
+        },
+    };
     let resolve = |s: &str, count: usize, what: &str, plural: &str| -> Result<usize, LoadError> {
         let count = count as i64;
         let i: i64 = s.parse().map_err(|_| {
@@ -242,7 +307,7 @@ fn face_vertex(
     } else {
         Some(resolve(vn, n_normals, "normal", "normals")?)
     };
-    Ok((position, normal))
+    Ok((position, texcoord_ok, normal))
 }
 
 /// The normal of a polygon, |n| = 2 area, robust for non-planar ones (Newell's method).
