@@ -7,7 +7,7 @@ use crate::yaml::{
     AlgorithmName, LightType, MaterialDesc, MaterialType, ObjectDesc, ObjectType, SceneFile,
 };
 use glam::Vec3;
-use ppm_core::bsdf::Bsdf;
+use ppm_core::bsdf::{Bsdf, Phong};
 use ppm_core::camera::Camera;
 use ppm_core::geometry::{Sphere, TriangleMesh};
 use ppm_core::integrator::{Algorithm, MAX_DEPTH};
@@ -37,7 +37,7 @@ pub fn build(
     let materials = file.materials.map(|m| m.0).unwrap_or_default();
     let mut used = vec![false; materials.len()];
     for (name, desc) in &materials {
-        let m = material(name, desc, path)?;
+        let m = material(name, desc, path, warnings)?;
         builder.add_material(m);
     }
     let lookup = |name: &str, field: &str, used: &mut Vec<bool>| -> Result<u32, LoadError> {
@@ -212,7 +212,12 @@ fn add_mesh(
 }
 
 /// A ppm material from its YAML description.
-fn material(name: &str, d: &MaterialDesc, path: &Path) -> Result<Material, LoadError> {
+fn material(
+    name: &str,
+    d: &MaterialDesc,
+    path: &Path,
+    warnings: &mut Vec<String>,
+) -> Result<Material, LoadError> {
     let field = format!("materials.{name}");
     let present = [
         ("color", d.color.is_some()),
@@ -264,6 +269,13 @@ fn material(name: &str, d: &MaterialDesc, path: &Path) -> Result<Material, LoadE
                         sum[ch],
                         ["red", "green", "blue"][ch]
                     ),
+                ));
+            }
+            if n > Phong::MAX_EXPONENT {
+                warnings.push(format!(
+                    "{}: {field}.exponent: {n:e} is rendered as {:e}, the largest exponent ppm renders (a lobe about 1e-5 rad wide); for a perfect mirror use `type: mirror`",
+                    path.display(),
+                    Phong::MAX_EXPONENT
                 ));
             }
             Bsdf::phong(kd, ks, n)

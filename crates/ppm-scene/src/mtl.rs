@@ -6,7 +6,7 @@
 
 use crate::error::LoadError;
 use glam::Vec3;
-use ppm_core::bsdf::Bsdf;
+use ppm_core::bsdf::{Bsdf, Phong};
 use ppm_core::material::Material;
 use std::path::Path;
 
@@ -236,7 +236,16 @@ pub fn mtl_to_material(m: &MtlMaterial, path: &Path, warnings: &mut Vec<String>)
         Bsdf::glass(ior, tf * conserve("Tf", tf))
     } else if ks.max_element() > 0.0 && m.ns.unwrap_or(0.0) > 0.0 {
         let s = conserve("Kd + Ks", kd + ks);
-        Bsdf::phong(kd * s, ks * s, m.ns.unwrap_or(0.0))
+        let ns = m.ns.unwrap_or(0.0);
+        if ns > Phong::MAX_EXPONENT {
+            warnings.push(format!(
+                "{}: material `{}`: Ns {ns:e} is rendered as {:e}, the largest exponent ppm renders",
+                path.display(),
+                m.name,
+                Phong::MAX_EXPONENT
+            ));
+        }
+        Bsdf::phong(kd * s, ks * s, ns)
     } else {
         Bsdf::diffuse(kd * conserve("Kd", kd))
     };

@@ -498,6 +498,24 @@ fn warnings_for_suspicious_but_valid_scenes() {
     let (b, warnings) = parse_scene(&lit, Path::new("dir/lit.yml")).unwrap();
     assert!(warnings.is_empty(), "{warnings:?}");
     assert_eq!(b.point_lights.len(), 1);
+    // A Phong exponent beyond what ppm renders is said, with the value used.
+    let sharp = valid_with(
+        "white: { type: diffuse, color: [0.7, 0.7, 0.7] }",
+        "white: { type: phong, diffuse: [0.1, 0.1, 0.1], specular: [0.8, 0.8, 0.8], exponent: 1e25 }",
+    );
+    let (b, warnings) = parse_scene(&sharp, Path::new("dir/sharp.yml")).unwrap();
+    assert_eq!(warnings.len(), 1, "{warnings:?}");
+    has(
+        &warnings[0],
+        &[
+            "dir/sharp.yml: materials.white.exponent: 1e25 is rendered as 1e10",
+            "type: mirror",
+        ],
+    );
+    match b.materials[0].bsdf {
+        ppm_core::bsdf::Bsdf::Phong(p) => assert_eq!(p.exponent, 1e10),
+        ref other => panic!("{other:?}"),
+    }
 }
 
 #[test]

@@ -302,3 +302,20 @@ fn unknown_mtl_statements_are_named_and_known_unused_ones_are_not() {
         ["t.mtl:5: ignored unknown statements: Kdd, Nss (the first on this line)"]
     );
 }
+
+/// An `Ns` beyond what ppm renders is said, with the exponent used.
+#[test]
+fn an_mtl_exponent_beyond_the_largest_is_said() {
+    let mut warnings = Vec::new();
+    let text = "newmtl sharp\nKd 0.1 0.1 0.1\nKs 0.8 0.8 0.8\nNs 1e30\n";
+    let mats = parse_mtl(text, Path::new("t.mtl"), &mut warnings).unwrap();
+    let material = mtl_to_material(&mats[0], Path::new("t.mtl"), &mut warnings);
+    assert_eq!(
+        warnings,
+        ["t.mtl: material `sharp`: Ns 1e30 is rendered as 1e10, the largest exponent ppm renders"]
+    );
+    match material.bsdf {
+        Bsdf::Phong(p) => assert_eq!(p.exponent, 1e10),
+        other => panic!("{other:?}"),
+    }
+}
