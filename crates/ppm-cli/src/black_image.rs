@@ -145,9 +145,8 @@ pub fn explain(image: &Image, facts: &RenderFacts<'_>) -> Vec<String> {
         format!("the image is nearly black (mean {mean:.3e})")
     }];
     if facts.scene.lights.is_empty() {
-        lines.push(format!(
-            "{file} has no light: no material has `emission` and there is no point light"
-        ));
+        // The loader has already said why (no `emission`, no point light); one line here.
+        lines[0].push_str(", as the scene has no light");
         return lines;
     }
     if let Some(builder) = facts.builder {
@@ -302,6 +301,18 @@ mod tests {
             black.iter().any(|l| l.contains("stored a photon")),
             "{black:?}"
         );
+        // Without any light: one line, the loader having named the cause in detail.
+        let dark = SceneBuilder::new(builder.camera.clone()).build();
+        if let Ok(dark) = dark {
+            let facts = RenderFacts {
+                scene: &dark,
+                ..facts
+            };
+            assert_eq!(
+                explain(&image, &facts),
+                ["the image is black (every pixel is 0), as the scene has no light"]
+            );
+        }
         image.pixels[9] = Vec3::splat(1e-3);
         image.pixels[10] = Vec3::splat(1e-3);
         let dim = explain(&image, &facts);
