@@ -8,7 +8,7 @@
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use ppm_benches::{camera_rays, gather_points, photons, shadow_rays};
-use ppm_core::integrator::{density_estimate, trace_light_path, GatherContext};
+use ppm_core::integrator::{density_estimate, trace_light_path, GatherContext, ShadingFrame};
 use ppm_core::photon::{HashGrid, Kernel, PhotonBuffer};
 use ppm_core::prelude::*;
 use ppm_tests::{load_small, SCENES};
@@ -118,7 +118,8 @@ fn photon_map(c: &mut Criterion) {
                                 .diffuse_part()
                                 .expect("gather points store photons")
                                 .albedo;
-                            sum += density_estimate(&ctx, hit, *wo, albedo);
+                            let normals = ShadingFrame::new(hit, *wo).gather_normals(hit, *wo);
+                            sum += density_estimate(&ctx, hit.p, normals, albedo);
                         }
                         sum
                     })

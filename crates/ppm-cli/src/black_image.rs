@@ -302,7 +302,7 @@ mod tests {
             "{black:?}"
         );
         // Without any light: one line, the loader having named the cause in detail.
-        let dark = SceneBuilder::new(builder.camera.clone()).build();
+        let dark = SceneBuilder::new(builder.camera).build();
         if let Ok(dark) = dark {
             let facts = RenderFacts {
                 scene: &dark,

@@ -7,7 +7,7 @@
 //! plain `[f32; 8]` and every operation a loop over the lanes. The two agree bit for bit,
 //! because each portable operation is defined as the instruction's own semantics:
 //!
-//! - `+`, `-`, `*` are the IEEE-754 operations, rounded to nearest, never fused (a NaN
+//! - `+`, `-`, `*`, `/` are the IEEE-754 operations, rounded to nearest, never fused (a NaN
 //!   result is NaN in both, its sign and payload unspecified, as in scalar Rust);
 //! - [`F32x8::min`] is `a < b ? a : b` and [`F32x8::max`] is `a > b ? a : b`, as `minps` /
 //!   `maxps` (so a NaN in either operand returns the second one, and `min(-0, +0)` is `+0`);
@@ -17,7 +17,7 @@
 //! ordinary values, signed zeros, infinities and NaN. The vector is private to the crate: it
 //! is the kernels' building block, not part of the renderer's interface.
 
-use std::ops::{Add, BitAnd, Mul, Sub};
+use std::ops::{Add, BitAnd, Div, Mul, Sub};
 
 /// Lanes in a vector.
 pub(crate) const LANES: usize = 8;
@@ -156,6 +156,7 @@ macro_rules! arithmetic {
 arithmetic!(Add, add, _mm256_add_ps, +);
 arithmetic!(Sub, sub, _mm256_sub_ps, -);
 arithmetic!(Mul, mul, _mm256_mul_ps, *);
+arithmetic!(Div, div, _mm256_div_ps, /);
 
 #[cfg(not(all(target_arch = "x86_64", target_feature = "avx")))]
 impl F32x8 {
@@ -346,6 +347,11 @@ mod tests {
             assert_eq!(
                 bits((va * vb).to_array()),
                 scalar(|x, y| x * y),
+                "{a:?} {b:?}"
+            );
+            assert_eq!(
+                bits((va / vb).to_array()),
+                scalar(|x, y| x / y),
                 "{a:?} {b:?}"
             );
             let min = |x: f32, y: f32| if x < y { x } else { y };

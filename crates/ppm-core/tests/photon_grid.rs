@@ -1,7 +1,7 @@
 //! The photon hash grid against a brute-force scan, its order determinism, and the kernel's
 //! normalisation in an irradiance estimate.
 
-use ppm_core::photon::{epanechnikov, FluxRecord, HashGrid, Kernel, Photon};
+use ppm_core::photon::{epanechnikov, FluxRecord, GatherNormals, HashGrid, Kernel, Photon};
 use ppm_core::sampling::Rng;
 use ppm_core::{Vec2, Vec3};
 
@@ -113,7 +113,7 @@ fn flux_query_hands_out_the_same_photons_in_the_same_order() {
 /// photons: the same photons (within r, from the side of n), weighted by the same kernel; the
 /// grid sums per lane, so the two agree up to rounding. Small and large radii (the lane sum
 /// and the per-photon path), many and few buckets (disjoint rows and shared buckets), a huge
-/// flux on the far side of a query (it must not leak in as NaN).
+/// flux on the far side of a query (it must not leak in as NaN); flat and shaded normals.
 #[test]
 fn kernel_flux_matches_a_brute_force_sum() {
     let mut rng = Rng::new(9, 0, 0);
@@ -147,14 +147,42 @@ fn kernel_flux_matches_a_brute_force_sum() {
                 n = Vec3::new(0.0, 0.0, -1.0);
             }
             let kernel = Kernel::new(r);
-            let expected = photons
+            // Every other query at a point shaded with a normal 30 degrees off the
+            // geometric one: photons weigh the ratio of the cosines.
+            let normals = if i % 2 == 0 {
+                GatherNormals::flat(n)
+            } else {
+                let side = n.any_orthonormal_vector();
+                GatherNormals {
+                    geometric: n,
+                    shading: (n * 30f32.to_radians().cos() + side * 30f32.to_radians().sin())
+                        .normalize(),
+                }
+            };
+            // The grid divides the cosines of the stored (unnormalised) direction, this sum
+            // those of the normalised one: their rounding differs by a few ulps times the
+            // cosines' condition 1 / |cos|, which `slack` adds up.
+            let (mut expected, mut slack) = (Vec3::ZERO, 0.0f32);
+            for ph in photons
                 .iter()
                 .filter(|ph| ph.position.distance_squared(p) <= r * r && ph.arrived_from(n))
-                .fold(Vec3::ZERO, |sum, ph| {
-                    sum + ph.flux * kernel.weight(ph.position.distance_squared(p))
-                });
-            let got = grid.kernel_flux(p, r, n, &kernel);
-            let tolerance = 1e-5 * expected.abs().max_element().max(1e-30);
+            {
+                let wi = ph.wi();
+                let w = if normals.is_flat() {
+                    1.0
+                } else {
+                    normals.weight(wi)
+                };
+                let term = ph.flux * (kernel.weight(ph.position.distance_squared(p)) * w);
+                expected += term;
+                if !normals.is_flat() {
+                    let condition = 1.0 / wi.dot(normals.geometric).abs()
+                        + 1.0 / wi.dot(normals.shading).abs().max(1e-30);
+                    slack += term.max_element() * 1e-6 * condition;
+                }
+            }
+            let got = grid.kernel_flux(p, r, normals, &kernel);
+            let tolerance = 1e-5 * expected.abs().max_element().max(1e-30) + slack;
             assert!(
                 (got - expected).abs().max_element() <= tolerance,
                 "query at {p}, r = {r}, n = {n} ({buckets} buckets): {got} vs {expected}"
@@ -224,7 +252,7 @@ fn gather_points_just_beyond_the_outermost_photons() {
         let expected = brute_force(&photons, p, r);
         assert!(!expected.is_empty(), "the test needs photons near {p}");
         assert_eq!(query(&grid, p, r), expected, "query at {p}");
-        let flux = grid.kernel_flux(p, r, -Vec3::Y, &kernel);
+        let flux = grid.kernel_flux(p, r, GatherNormals::flat(-Vec3::Y), &kernel);
         assert!(flux.min_element() > 0.0, "no flux at {p}");
     }
 }

@@ -1,6 +1,7 @@
 //! The local shading frame at a hit, shared by every tracer.
 
 use crate::geometry::Hit;
+use crate::photon::GatherNormals;
 use crate::sampling::Frame;
 use glam::Vec3;
 
@@ -45,5 +46,23 @@ impl ShadingFrame {
         let reflect_local = wi_local.z * self.wo.z > 0.0;
         let reflect_geometric = wi.dot(hit.ng) * wo.dot(hit.ng) > 0.0;
         reflect_local == reflect_geometric
+    }
+
+    /// The normals a density estimate at this hit weighs photons with
+    /// ([`GatherNormals::weight`]): the geometric normal and this frame's shading normal,
+    /// each turned toward `wo`. Flat when the frame is the geometric one.
+    #[inline]
+    pub fn gather_normals(&self, hit: &Hit, wo: Vec3) -> GatherNormals {
+        let geometric = if wo.dot(hit.ng) >= 0.0 {
+            hit.ng
+        } else {
+            -hit.ng
+        };
+        let shading = if self.wo.z >= 0.0 {
+            self.frame.z
+        } else {
+            -self.frame.z
+        };
+        GatherNormals { geometric, shading }
     }
 }

@@ -9,7 +9,9 @@
 //! Phi_p max(norm - slope d_p², 0)   if d_p² <= r² and wi_p . n > 0,   else 0,
 //! ```
 //!
-//! summed per lane and added up across the lanes at the end. Candidates outside the sphere
+//! summed per lane and added up across the lanes at the end; at a point shaded with an
+//! interpolated normal ns, the flux is also weighted by (wi_p . ns) / (wi_p . n) and counts
+//! only where wi_p . ns > 0 as well ([`super::GatherNormals`]). Candidates outside the sphere
 //! or from the other side are masked to zero (not multiplied by a zero weight, so a huge flux
 //! next door cannot turn into NaN). Written once over [`F32x8`], whose AVX and portable forms
 //! agree bit for bit, and tested lane by lane against the scalar formula.
@@ -99,8 +101,10 @@ pub(super) struct Block<'a> {
 #[derive(Clone, Copy, Debug)]
 pub(super) struct FluxQuery {
     pub(super) p: Vec3,
-    /// Photons count when wi . n > 0.
+    /// The geometric normal on the viewer's side: photons count when wi . n > 0.
     pub(super) n: Vec3,
+    /// The shading normal on the viewer's side, read by [`FluxSum::add`] when `SHADED`.
+    pub(super) ns: Vec3,
     pub(super) r2: f32,
     pub(super) norm: f32,
     pub(super) slope: f32,
@@ -119,9 +123,16 @@ impl FluxSum {
     }
 
     /// Adds the first `valid` candidates of `block` (the others are masked off): per lane k,
-    /// `Phi_k max(norm - slope d_k², 0)` where `k < valid`, `d_k² <= r²` and `wi_k . n > 0`.
+    /// `Phi_k max(norm - slope d_k², 0)` where `k < valid`, `d_k² <= r²` and `wi_k . n > 0`;
+    /// when `SHADED`, times `(wi_k . ns) / (wi_k . n)` and only where `wi_k . ns > 0` and that
+    /// ratio is finite ([`super::GatherNormals::weight`], lane by lane).
     #[inline(always)]
-    pub(super) fn add(&mut self, block: Block<'_>, valid: usize, q: &FluxQuery) {
+    pub(super) fn add<const SHADED: bool>(
+        &mut self,
+        block: Block<'_>,
+        valid: usize,
+        q: &FluxQuery,
+    ) {
         let load = F32x8::from_array;
         let splat = F32x8::splat;
         let [xs, ys, zs] = block.position;
@@ -137,8 +148,16 @@ impl FluxSum {
         let weight = (splat(q.norm) - splat(q.slope) * d2).max(F32x8::zero());
         let lane = load(&[0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0]);
         // Ordered comparisons: false for NaN.
-        let counts =
+        let mut counts =
             lane.lt(splat(valid.min(LANES) as f32)) & d2.le(splat(q.r2)) & side.gt(F32x8::zero());
+        let mut weight = weight;
+        if SHADED {
+            let shading =
+                (load(wx) * splat(q.ns.x) + load(wy) * splat(q.ns.y)) + load(wz) * splat(q.ns.z);
+            let ratio = shading / side;
+            counts = counts & shading.gt(F32x8::zero()) & ratio.lt(splat(f32::INFINITY));
+            weight = weight * ratio;
+        }
         for (sum, flux) in self.lanes.iter_mut().zip(block.flux) {
             *sum = *sum + counts.select_or_zero(weight * load(flux));
         }
@@ -159,7 +178,7 @@ mod tests {
 
     /// Every lane of the block sum equals the per-photon formula evaluated in scalar code, bit
     /// for bit, on blocks with candidates inside, outside, on the sphere, from behind, huge fluxes
-    /// outside and padding.
+    /// outside and padding; flat, and shaded with the weight of `GatherNormals`.
     #[test]
     #[allow(clippy::needless_range_loop)] // lanes index several arrays at once
     fn block_sums_match_the_per_photon_formula() {
@@ -167,6 +186,7 @@ mod tests {
         let q = FluxQuery {
             p: Vec3::new(0.3, -1.2, 2.0),
             n: Vec3::new(0.0, 0.6, 0.8),
+            ns: Vec3::new(0.48, 0.6, 0.64),
             r2: 0.04,
             norm: 2.0 / (std::f32::consts::PI * 0.04),
             slope: 2.0 / (std::f32::consts::PI * 0.04) / 0.04,
@@ -203,18 +223,29 @@ mod tests {
             } else {
                 LANES
             };
+            let shaded = round % 2 == 1;
             let mut sum = FluxSum::new();
-            sum.add(block, valid, &q);
+            if shaded {
+                sum.add::<true>(block, valid, &q);
+            } else {
+                sum.add::<false>(block, valid, &q);
+            }
+            let normals = crate::photon::GatherNormals {
+                geometric: q.n,
+                shading: if shaded { q.ns } else { q.n },
+            };
             let lanes = sum.lanes.map(F32x8::to_array);
             for k in 0..LANES {
                 let x = Vec3::new(c[0][0][k], c[0][1][k], c[0][2][k]);
                 let flux = Vec3::new(c[1][0][k], c[1][1][k], c[1][2][k]);
                 let wi = Vec3::new(c[2][0][k], c[2][1][k], c[2][2][k]);
                 let d2 = x.distance_squared(q.p);
-                let counts = k < valid && d2 <= q.r2 && wi.dot(q.n) > 0.0;
+                let w = normals.weight(wi);
+                let counts = k < valid && d2 <= q.r2 && w > 0.0;
                 let expected = if counts {
                     counted += 1;
-                    flux * (q.norm - q.slope * d2).max(0.0)
+                    let kernel = (q.norm - q.slope * d2).max(0.0);
+                    flux * if shaded { kernel * w } else { kernel }
                 } else {
                     Vec3::ZERO
                 };

@@ -14,9 +14,11 @@ mod buffer;
 mod gather;
 mod grid;
 mod kernel;
+mod normals;
 mod record;
 
 pub use buffer::{PhotonBuffer, PhotonWriter, BATCH};
 pub use grid::HashGrid;
 pub use kernel::{epanechnikov, Kernel};
+pub use normals::GatherNormals;
 pub use record::{FluxRecord, Photon};

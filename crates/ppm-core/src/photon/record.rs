@@ -137,6 +137,13 @@ impl FluxRecord {
     pub fn arrived_from(&self, n: Vec3) -> bool {
         oct_unfold(self.wi).dot(n) > 0.0
     }
+
+    /// The incoming direction as stored, decoded but not normalised, as
+    /// [`Photon::wi_unfolded`].
+    #[inline]
+    pub(crate) fn wi_unfolded(&self) -> Vec3 {
+        oct_unfold(self.wi)
+    }
 }
 
 /// ±1 with the sign of `x` (+1 for ±0), so that the fold below never multiplies by zero.

@@ -2,11 +2,10 @@
 //! diffuse point, where the photon map gives the reflected radiance.
 
 use crate::bsdf::Bsdf;
-use crate::geometry::Hit;
 use crate::integrator::camera_path::start_pixel_path;
 use crate::integrator::camera_walk::{walk, RayCounters, WalkParams};
 use crate::integrator::{DirectMode, LightStrategy, RenderSettings};
-use crate::photon::{HashGrid, Kernel};
+use crate::photon::{GatherNormals, HashGrid, Kernel};
 use crate::scene::Scene;
 use glam::Vec3;
 
@@ -22,25 +21,29 @@ pub struct GatherContext<'a> {
     pub inv_paths: f32,
 }
 
-/// The photon density estimate of the radiance reflected toward `wo` at `hit` by a diffuse
-/// lobe of albedo `albedo` (a diffuse surface, or the diffuse lobe of a phong surface):
+/// The photon density estimate of the radiance reflected at `p`, a point with `normals`
+/// (turned toward the viewer, [`crate::integrator::ShadingFrame::gather_normals`]), by a
+/// diffuse lobe of albedo `albedo` (a diffuse surface, or the diffuse lobe of a phong
+/// surface):
 ///
-/// L(x, wo) = sum over photons p within r of f k(d_p^2) Phi_p / N,   f = albedo / pi,
+/// L(x, wo) = sum over photons p within r of f k(d_p^2) Phi_p w(wi_p) / N,   f = albedo / pi,
 /// k(d^2) = 2 (1 - d^2 / r^2) / (pi r^2)  (Epanechnikov, normalised over the disc),
 ///
 /// where Phi_p is the flux of the photon's light path and N the number of light paths.
 /// f does not depend on the directions, so it leaves the sum. Photons that arrived from the
 /// other side of the surface (wi_p . n <= 0, n the geometric normal turned toward the viewer)
-/// are rejected: they lit the back of a thin wall. The flux per unit geometric area is taken
-/// as the irradiance, which is exact on flat-shaded surfaces (ns = ng).
+/// are rejected: they lit the back of a thin wall. On a surface shaded with an interpolated
+/// normal ns each photon is also weighted by (wi_p . ns) / (wi_p . n): the photons' density
+/// per unit of geometric area is the irradiance with the geometric cosine, while the
+/// reflected radiance takes the shading one (w = 1 when flat; [`crate::photon::GatherNormals`]).
 #[inline]
-pub fn density_estimate(ctx: &GatherContext<'_>, hit: &Hit, wo: Vec3, albedo: Vec3) -> Vec3 {
-    let n_view = if wo.dot(hit.ng) >= 0.0 {
-        hit.ng
-    } else {
-        -hit.ng
-    };
-    let sum = ctx.grid.kernel_flux(hit.p, ctx.radius, n_view, &ctx.kernel);
+pub fn density_estimate(
+    ctx: &GatherContext<'_>,
+    p: Vec3,
+    normals: GatherNormals,
+    albedo: Vec3,
+) -> Vec3 {
+    let sum = ctx.grid.kernel_flux(p, ctx.radius, normals, &ctx.kernel);
     sum * (albedo * (std::f32::consts::FRAC_1_PI * ctx.inv_paths))
 }
 
@@ -75,7 +78,8 @@ pub fn trace_eye_path(
     let sampled_direct = settings.direct == DirectMode::Sampled;
     walk(scene, params, ray, &mut rng, counters, |w, v, rng| {
         if let Some(diffuse) = v.bsdf.diffuse_part() {
-            w.add(density_estimate(ctx, v.hit, v.wo, diffuse.albedo));
+            let normals = v.sf.gather_normals(v.hit, v.wo);
+            w.add(density_estimate(ctx, v.hit.p, normals, diffuse.albedo));
             if sampled_direct {
                 w.add_direct(scene, v, &Bsdf::Diffuse(diffuse), rng, false);
             }

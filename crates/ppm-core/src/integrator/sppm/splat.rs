@@ -22,10 +22,12 @@ pub struct SplatCounters {
 ///
 /// For visible point x with weight beta f (see [`SplatPoint::weight`]) and radius R, the
 /// photon p at x_p with flux Phi_p and incoming direction wi_p contributes
-///   Phi += beta f Phi_p,  M += 1,   if |x - x_p| <= R and wi_p . n_view > 0,
+///   Phi += beta f Phi_p w(wi_p),  M += 1,   if |x - x_p| <= R and w(wi_p) > 0,
 /// the uniform-kernel (disc) density estimate of Hachisuka et al. 2008 that the statistics
-/// of [`super::pixel::PixelStatistics`] assume. Photons that arrived from the other side of
-/// the visible point's surface lit the back of a thin wall and are ignored, as in `ppm`.
+/// of [`super::pixel::PixelStatistics`] assume. w is the photon's weight for the visible
+/// point's normals ([`crate::photon::GatherNormals::weight`]): 1 on a flat surface, the
+/// ratio of the shading to the geometric cosine on one with interpolated normals, and 0 for
+/// photons that arrived from the other side (they lit the back of a thin wall), as in `ppm`.
 pub struct Splatter<'a> {
     pub grid: &'a VisiblePointGrid,
     pub points: &'a [SplatPoint],
@@ -40,10 +42,14 @@ impl PhotonSink for Splatter<'_> {
         self.counters.photons += 1;
         for pixel in self.grid.candidates(position) {
             let vp = &self.points[pixel];
-            if vp.p.distance_squared(position) > vp.r2 || wi.dot(vp.n_view) <= 0.0 {
+            if vp.p.distance_squared(position) > vp.r2 {
                 continue;
             }
-            let phi = vp.weight * flux;
+            let w = vp.normals.weight(wi);
+            if w <= 0.0 {
+                continue;
+            }
+            let phi = vp.weight * flux * w;
             if !phi.is_finite() || phi.min_element() < 0.0 {
                 self.counters.rejected += 1;
                 continue;

@@ -5,6 +5,7 @@ use crate::bsdf::Bsdf;
 use crate::integrator::camera_path::start_pixel_path;
 use crate::integrator::camera_walk::{walk, Next, RayCounters, WalkParams};
 use crate::integrator::{DirectMode, LightStrategy, RenderSettings};
+use crate::photon::GatherNormals;
 use crate::scene::Scene;
 use glam::Vec3;
 
@@ -18,8 +19,9 @@ pub const SPPM_EYE_STREAM: u64 = 0x7370_706d_5f65_7965;
 pub struct SplatPoint {
     /// Position (world space, camera-relative like the scene).
     pub p: Vec3,
-    /// The geometric normal on the camera's side: photons from the other side are ignored.
-    pub n_view: Vec3,
+    /// The geometric and shading normals on the camera's side: a photon counts with the
+    /// weight [`GatherNormals::weight`] (photons from the other side are ignored).
+    pub normals: GatherNormals,
     /// beta f / p_lobe: the camera path's throughput (an importance, radiance mode) times the
     /// diffuse lobe's f = albedo / pi, over the probability of having chosen that lobe. A
     /// photon of flux Phi_p inside the disc adds `weight * Phi_p` to the pixel's Phi.
@@ -93,14 +95,9 @@ pub fn trace_camera_path(
         if sampled_direct {
             w.add_direct(scene, v, &Bsdf::Diffuse(diffuse), rng, false);
         }
-        let n_view = if v.wo.dot(v.hit.ng) >= 0.0 {
-            v.hit.ng
-        } else {
-            -v.hit.ng
-        };
         point = SplatPoint {
             p: v.hit.p,
-            n_view,
+            normals: v.sf.gather_normals(v.hit, v.wo),
             weight: w.path.throughput * diffuse.albedo * std::f32::consts::FRAC_1_PI,
             r2: 0.0,
             found: true,

@@ -242,7 +242,11 @@ impl CameraPass<'_> {
     /// as long as the full path has at most `max_edges` edges: the density estimate with a
     /// uniform kernel over the disc, averaged over the N_light light subpaths,
     ///
-    /// M = 1 / (pi r^2 N_light) sum_y f_x(wo, wi_y) T_y w_y,
+    /// M = 1 / (pi r^2 N_light) sum_y f_x(wo, wi_y) T_y (|wi_y . ns| / |wi_y . ng|) w_y,
+    ///
+    /// the cosine ratio turning the light vertices' density per unit of geometric area (an
+    /// irradiance with the geometric cosine) into the shading cosine the reflected radiance
+    /// takes at x (1 when flat; see [`crate::photon::GatherNormals`]), and
     ///
     /// w_light = dVCM_y mis(1/eta_VCM) + dVM_y mis(p_x(wo -> wi_y)),
     /// w_camera = dVCM_x mis(1/eta_VCM) + dVM_x mis(p_x(wi_y -> wo)).
@@ -259,9 +263,14 @@ impl CameraPass<'_> {
                 let Some(e) = x.v.eval(y.wo, TransportMode::Radiance) else {
                     return;
                 };
+                // e.cos is |wi_y . ns| in x's shading frame.
+                let ratio = e.cos / y.wo.dot(x.v.hit.ng).abs();
+                if !ratio.is_finite() {
+                    return;
+                }
                 sum += e.f
                     * y.throughput
-                    * merge_weight(&y.mis, x.state, e.pdf_forward, e.pdf_reverse, c);
+                    * (ratio * merge_weight(&y.mis, x.state, e.pdf_forward, e.pdf_reverse, c));
             });
         sum * c.vm_normalization
     }

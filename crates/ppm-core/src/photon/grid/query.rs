@@ -4,7 +4,7 @@
 use super::distances::block_distances;
 use super::HashGrid;
 use crate::photon::gather::{ColumnsView, FluxQuery, FluxSum};
-use crate::photon::{FluxRecord, Kernel, Photon};
+use crate::photon::{FluxRecord, GatherNormals, Kernel, Photon};
 use crate::simd::LANES;
 use glam::{IVec3, Vec3};
 use std::ops::Range;
@@ -40,24 +40,25 @@ impl HashGrid {
         self.query(p, r, |i, d2| f(&FluxRecord::from(&self.photons[i]), d2));
     }
 
-    /// The kernel-weighted flux of the photons within `r` of `p` that arrived from the side
-    /// `n` points to: sum over those photons of Phi_p k(d_p²) (`kernel` of radius `r`), the
-    /// sum of a density estimate. Photons with `wi . n <= 0` are left out
-    /// ([`FluxRecord::arrived_from`]).
+    /// The kernel-weighted flux of the photons within `r` of `p` that arrived from the
+    /// viewer's side of a surface with `normals`: sum over those photons of
+    /// Phi_p k(d_p²) w(wi_p) (`kernel` of radius `r`, w the photon's weight for shading
+    /// normals, [`GatherNormals::weight`], 1 when flat), the sum of a density estimate.
     ///
     /// The usual query (at most 27 cells) sums 8 candidates at once with no branch per
     /// photon; the sum is formed per lane, so it equals the sequential sum over
     /// [`HashGrid::for_each_flux_in_radius`] up to rounding.
     #[inline]
-    pub fn kernel_flux(&self, p: Vec3, r: f32, n: Vec3, kernel: &Kernel) -> Vec3 {
+    pub fn kernel_flux(&self, p: Vec3, r: f32, normals: GatherNormals, kernel: &Kernel) -> Vec3 {
         let Some((lo, hi, cells)) = self.cell_range(p, r) else {
             return Vec3::ZERO;
         };
         if cells > SMALL_QUERY as i64 {
             let mut sum = Vec3::ZERO;
             self.for_each_flux_in_radius(p, r, |photon, d2| {
-                if photon.arrived_from(n) {
-                    sum += photon.flux * kernel.weight(d2);
+                let w = normals.weight(photon.wi_unfolded());
+                if w > 0.0 {
+                    sum += photon.flux * (kernel.weight(d2) * w);
                 }
             });
             return sum;
@@ -65,11 +66,24 @@ impl HashGrid {
         let (norm, slope) = kernel.coefficients();
         let q = FluxQuery {
             p,
-            n,
+            n: normals.geometric,
+            ns: normals.shading,
             r2: r * r,
             norm,
             slope,
         };
+        // Flat shading (every quad and sphere, meshes without vertex normals) keeps the
+        // loop without the ratio.
+        if normals.is_flat() {
+            self.block_sum::<false>(lo, hi, &q)
+        } else {
+            self.block_sum::<true>(lo, hi, &q)
+        }
+    }
+
+    /// The block sums of [`HashGrid::kernel_flux`] over the buckets of cells `lo..=hi`.
+    #[inline(always)]
+    fn block_sum<const SHADED: bool>(&self, lo: IVec3, hi: IVec3, q: &FluxQuery) -> Vec3 {
         let runs = self.bucket_runs(lo, hi);
         let columns = self.columns.view();
         let mut sum = FluxSum::new();
@@ -77,7 +91,7 @@ impl HashGrid {
         // than a branch (which the varying run lengths would mispredict).
         let (mut run, (mut i, mut end)) = (0, runs.get(0));
         for _ in 0..runs.blocks {
-            sum.add(columns.block(i), end - i, &q);
+            sum.add::<SHADED>(columns.block(i), end - i, q);
             i += LANES;
             let next = (i >= end) as usize;
             run += next;
