@@ -171,7 +171,7 @@ fn si(v: f64) -> String {
         v if v >= 1e9 => (1e9, " G"),
         v if v >= 1e6 => (1e6, " M"),
         v if v >= 1e3 => (1e3, " k"),
-        _ => (1.0, " "),
+        _ => (1.0, ""),
     };
     format!("{:.2}{prefix}", v / scale)
 }
@@ -192,6 +192,15 @@ mod tests {
         assert_eq!(parse_vm_hwm("Name: x\n"), None);
         #[cfg(target_os = "linux")]
         assert!(peak_rss_bytes().unwrap() > 1024 * 1024);
+    }
+
+    /// Rates below a thousand have no prefix and no second space ("0.00 rays/s").
+    #[test]
+    fn rates_take_one_space_before_the_unit() {
+        assert_eq!(format!("{} rays/s", si(0.0)), "0.00 rays/s");
+        assert_eq!(format!("{} rays/s", si(999.0)), "999.00 rays/s");
+        assert_eq!(format!("{} rays/s", si(1234.0)), "1.23 k rays/s");
+        assert_eq!(format!("{} rays/s", si(2.5e9)), "2.50 G rays/s");
     }
 
     #[test]
