@@ -253,25 +253,25 @@ impl Visitor<'_> for WholeVisitor {
     }
 }
 
+/// A whole number in `min..=u32::MAX`.
+fn whole_u32<'de, D: Deserializer<'de>>(d: D, min: u32) -> Result<u32, D::Error> {
+    let n = d.deserialize_any(WholeVisitor {
+        what: format!("a whole number >= {min} (at most {})", u32::MAX),
+        min: min.into(),
+        max: u32::MAX.into(),
+    })?;
+    Ok(n as u32)
+}
+
 impl<'de> Deserialize<'de> for Count {
     fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        let n = d.deserialize_any(WholeVisitor {
-            what: format!("a whole number >= 1 (at most {})", u32::MAX),
-            min: 1,
-            max: u32::MAX.into(),
-        })?;
-        Ok(Count(n as u32))
+        whole_u32(d, 1).map(Count)
     }
 }
 
 impl<'de> Deserialize<'de> for Depth {
     fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        let n = d.deserialize_any(WholeVisitor {
-            what: format!("a whole number >= 0 (at most {})", u32::MAX),
-            min: 0,
-            max: u32::MAX.into(),
-        })?;
-        Ok(Depth(n as u32))
+        whole_u32(d, 0).map(Depth)
     }
 }
 
