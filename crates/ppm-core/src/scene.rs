@@ -79,6 +79,11 @@ pub struct SceneBuilder {
     pub spheres: Vec<Sphere>,
     pub point_lights: Vec<PointLight>,
     pub defaults: RenderDefaults,
+    /// Where the builder's origin lies in the world: world = builder coordinates + this.
+    /// Zero unless the caller made its coordinates relative in higher precision than f32
+    /// (the scene loader subtracts the camera position in f64), which [`Scene::origin`]
+    /// then includes.
+    pub world_offset: Vec3,
 }
 
 impl SceneBuilder {
@@ -91,6 +96,7 @@ impl SceneBuilder {
             spheres: Vec::new(),
             point_lights: Vec::new(),
             defaults: RenderDefaults::default(),
+            world_offset: Vec3::ZERO,
         }
     }
 
@@ -192,7 +198,7 @@ impl SceneBuilder {
             light_distribution: Distribution1D::new(&weights),
             lights,
             defaults: self.defaults,
-            origin,
+            origin: origin + self.world_offset,
             prim_light,
         })
     }

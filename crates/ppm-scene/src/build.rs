@@ -6,7 +6,7 @@ use crate::obj::{self, ObjMaterials};
 use crate::yaml::{
     AlgorithmName, LightType, MaterialDesc, MaterialType, ObjectDesc, ObjectType, SceneFile,
 };
-use glam::Vec3;
+use glam::{DVec3, Vec3};
 use ppm_core::bsdf::{Bsdf, Phong};
 use ppm_core::camera::Camera;
 use ppm_core::geometry::{Sphere, TriangleMesh};
@@ -30,9 +30,20 @@ pub fn build(
         .resolution
         .map(|r| (r.0, r.1))
         .unwrap_or(DEFAULT_RESOLUTION);
-    let camera = Camera::new(c.position.0, c.look_at.0, c.up.0, c.fov.0, resolution)
-        .map_err(|e| LoadError::invalid(path, "camera", e.to_string()))?;
+    // Every point is made relative to the camera here, in double precision, before it is
+    // rounded to f32: a scene 1e6 units from the world origin keeps its millimetres (in f32
+    // they would snap to 1/16 of a unit). Directions (up, a quad's edges) do not move.
+    let origin = c.position.1;
+    let camera = Camera::new(
+        c.position.relative_to(origin),
+        c.look_at.relative_to(origin),
+        c.up.0,
+        c.fov.0,
+        resolution,
+    )
+    .map_err(|e| LoadError::invalid(path, "camera", e.to_string()))?;
     let mut builder = SceneBuilder::new(camera);
+    builder.world_offset = origin.as_vec3();
 
     let materials = file.materials.map(|m| m.0).unwrap_or_default();
     let mut used = vec![false; materials.len()];
@@ -81,10 +92,11 @@ pub fn build(
         match o.kind {
             ObjectType::Mesh => {
                 let file = o.file.as_deref().ok_or_else(|| need("file"))?;
-                add_mesh(&mut builder, path, &field, file, material, warnings)?;
+                add_mesh(&mut builder, path, &field, file, material, origin, warnings)?;
             }
             ObjectType::Sphere => {
-                let center = o.center.as_ref().ok_or_else(|| need("center"))?.0;
+                let center = o.center.as_ref().ok_or_else(|| need("center"))?;
+                let center = center.relative_to(origin);
                 let radius = o.radius.as_ref().ok_or_else(|| need("radius"))?.0;
                 let sphere = Sphere::new(center, radius, material.ok_or_else(|| need("material"))?);
                 builder.add_sphere(if o.inward == Some(true) {
@@ -94,7 +106,8 @@ pub fn build(
                 });
             }
             ObjectType::Quad => {
-                let corner = o.corner.as_ref().ok_or_else(|| need("corner"))?.0;
+                let corner = o.corner.as_ref().ok_or_else(|| need("corner"))?;
+                let corner = corner.relative_to(origin);
                 let u = o.edge_u.as_ref().ok_or_else(|| need("edge_u"))?.0;
                 let v = o.edge_v.as_ref().ok_or_else(|| need("edge_v"))?.0;
                 let m = material.ok_or_else(|| need("material"))?;
@@ -114,7 +127,7 @@ pub fn build(
     for l in file.lights.unwrap_or_default() {
         match l.kind {
             LightType::Point => builder.add_point_light(PointLight {
-                position: l.position.0,
+                position: l.position.relative_to(origin),
                 intensity: l.intensity.0,
             }),
         }
@@ -182,6 +195,7 @@ fn add_mesh(
     field: &str,
     file: &str,
     material: Option<u32>,
+    origin: DVec3,
     warnings: &mut Vec<String>,
 ) -> Result<(), LoadError> {
     let obj_path = scene.parent().unwrap_or(Path::new("")).join(file);
@@ -190,14 +204,15 @@ fn add_mesh(
     } else {
         ObjMaterials::FromMtl
     };
-    let data = obj::load_obj(&obj_path, policy, warnings).map_err(|e| match e {
-        LoadError::Io { path, what, source } => LoadError::Io {
-            path,
-            what: format!("{what} ({field}.file of {})", scene.display()),
-            source,
-        },
-        e => e,
-    })?;
+    let data =
+        obj::load_obj_relative(&obj_path, policy, origin, warnings).map_err(|e| match e {
+            LoadError::Io { path, what, source } => LoadError::Io {
+                path,
+                what: format!("{what} ({field}.file of {})", scene.display()),
+                source,
+            },
+            e => e,
+        })?;
     let offset = builder.materials.len() as u32;
     for m in data.materials {
         builder.add_material(m);

@@ -4,7 +4,7 @@
 //! where the value is: a bad value is reported with its field path, line and column
 //! (`materials.white.color: component 1 is -0.5, expected a reflectance in [0, 1]`).
 
-use glam::Vec3;
+use glam::{DVec3, Vec3};
 use ppm_core::camera::MAX_RESOLUTION;
 use serde::de::{self, Deserialize, Deserializer, IgnoredAny, SeqAccess, Visitor};
 use std::fmt;
@@ -71,8 +71,19 @@ impl Rule for Alpha {
 /// A number checked against rule `R`.
 pub struct Num<R>(pub f32, PhantomData<R>);
 
-/// Three numbers `[x, y, z]` (or `[r, g, b]`), each checked against rule `R`.
-pub struct Triple<R>(pub Vec3, PhantomData<R>);
+/// Three numbers `[x, y, z]` (or `[r, g, b]`), each checked against rule `R`: as `f32`, and
+/// as written (`f64`) for points, which the loader makes camera-relative before rounding
+/// them to `f32` ([`Triple::relative_to`]).
+pub struct Triple<R>(pub Vec3, pub DVec3, PhantomData<R>);
+
+impl<R> Triple<R> {
+    /// The point minus `origin`, subtracted in double precision and then rounded: a scene
+    /// far from the world origin keeps the detail near its camera (1e6 + 0.001 is 1e6 in
+    /// f32, but 0.001 after the subtraction).
+    pub fn relative_to(&self, origin: DVec3) -> Vec3 {
+        (self.1 - origin).as_vec3()
+    }
+}
 
 /// A point or direction.
 pub type Point = Triple<Finite>;
@@ -186,10 +197,12 @@ impl<'de, R: Rule> Visitor<'de> for TripleVisitor<R> {
     }
     fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Triple<R>, A::Error> {
         let mut v = [0.0f32; 3];
+        let mut exact = [0.0f64; 3];
         for (i, vi) in v.iter_mut().enumerate() {
             let x: f64 = seq
                 .next_element()?
                 .ok_or_else(|| de::Error::invalid_length(i, &self))?;
+            exact[i] = x;
             *vi = x as f32;
             if !R::ok(*vi) {
                 return Err(de::Error::custom(format!(
@@ -201,7 +214,11 @@ impl<'de, R: Rule> Visitor<'de> for TripleVisitor<R> {
         if seq.next_element::<IgnoredAny>()?.is_some() {
             return Err(de::Error::invalid_length(4, &self));
         }
-        Ok(Triple(Vec3::from_array(v), PhantomData))
+        Ok(Triple(
+            Vec3::from_array(v),
+            DVec3::from_array(exact),
+            PhantomData,
+        ))
     }
 }
 

@@ -15,7 +15,7 @@ mod prepare;
 use crate::error::LoadError;
 use crate::mtl::{self, MtlMaterial};
 use clean::{clean, CleanStats};
-use glam::Vec3;
+use glam::{DVec3, Vec3};
 use ppm_core::geometry::TriangleMesh;
 use ppm_core::material::Material;
 use prepare::prepare;
@@ -55,8 +55,20 @@ pub fn load_obj(
     materials: ObjMaterials,
     warnings: &mut Vec<String>,
 ) -> Result<ObjData, LoadError> {
+    load_obj_relative(path, materials, DVec3::ZERO, warnings)
+}
+
+/// [`load_obj`] with every vertex position minus `origin`, subtracted in double precision
+/// before rounding to `f32` (the scene loader passes the camera position, so that a mesh far
+/// from the world origin keeps its detail).
+pub fn load_obj_relative(
+    path: &Path,
+    materials: ObjMaterials,
+    origin: DVec3,
+    warnings: &mut Vec<String>,
+) -> Result<ObjData, LoadError> {
     let text = read_text(path, "OBJ mesh")?;
-    parse_obj(&text, path, materials, warnings)
+    parse_obj_relative(&text, path, materials, origin, warnings)
 }
 
 /// Parses OBJ text; `path` names it in messages and locates its MTL libraries.
@@ -66,7 +78,18 @@ pub fn parse_obj(
     materials: ObjMaterials,
     warnings: &mut Vec<String>,
 ) -> Result<ObjData, LoadError> {
-    let prepared = prepare(text, path, warnings)?;
+    parse_obj_relative(text, path, materials, DVec3::ZERO, warnings)
+}
+
+/// [`parse_obj`] with every vertex position minus `origin` (see [`load_obj_relative`]).
+pub fn parse_obj_relative(
+    text: &str,
+    path: &Path,
+    materials: ObjMaterials,
+    origin: DVec3,
+    warnings: &mut Vec<String>,
+) -> Result<ObjData, LoadError> {
+    let prepared = prepare(text, path, origin, warnings)?;
 
     // Each `mtllib` statement becomes a list of MTL materials; tobj sees only their names.
     let mut libraries: Vec<Vec<MtlMaterial>> = Vec::new();

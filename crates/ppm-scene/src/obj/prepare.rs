@@ -3,7 +3,7 @@
 
 use super::safe_normalize;
 use crate::error::LoadError;
-use glam::Vec3;
+use glam::{DVec3, Vec3};
 use std::fmt::Write;
 use std::path::Path;
 
@@ -19,11 +19,12 @@ pub(super) struct Prepared {
 }
 
 /// Checks and rewrites OBJ text line by line (see the module docs). The output has only
-/// `mtllib` (first, as statement numbers), `v`, `vn`, `f` (absolute indices), `o`, `g` and
-/// `usemtl` statements.
+/// `mtllib` (first, as statement numbers), `v` (minus `origin`, in double precision), `vn`,
+/// `f` (absolute indices), `o`, `g` and `usemtl` statements.
 pub(super) fn prepare(
     text: &str,
     path: &Path,
+    origin: DVec3,
     warnings: &mut Vec<String>,
 ) -> Result<Prepared, LoadError> {
     let mut body = String::with_capacity(text.len());
@@ -57,20 +58,21 @@ pub(super) fn prepare(
         let args: Vec<&str> = words.collect();
         match keyword {
             "v" => {
-                let p = numbers(&args, path, line_no, "v")?;
+                let p = numbers::<f64>(&args, path, line_no, "v")?;
                 let p = match p.len() {
                     // x y z, or x y z r g b (vertex colours, unused)
-                    3 | 6 => Vec3::new(p[0], p[1], p[2]),
+                    3 | 6 => DVec3::new(p[0], p[1], p[2]),
                     // x y z w: homogeneous
-                    4 if p[3] != 0.0 => Vec3::new(p[0], p[1], p[2]) / p[3],
+                    4 if p[3] != 0.0 => DVec3::new(p[0], p[1], p[2]) / p[3],
                     4 => return Err(err("`v`: w is 0".into())),
                     n => return Err(err(format!("`v` needs x y z [w], found {n} numbers"))),
                 };
+                let p = (p - origin).as_vec3();
                 let _ = writeln!(body, "v {} {} {}", p.x, p.y, p.z);
                 positions.push(p);
             }
             "vn" => {
-                let n = numbers(&args, path, line_no, "vn")?;
+                let n = numbers::<f32>(&args, path, line_no, "vn")?;
                 if n.len() != 3 {
                     return Err(err(format!("`vn` needs x y z, found {} numbers", n.len())));
                 }
@@ -239,15 +241,15 @@ fn logical_lines(text: &str) -> impl Iterator<Item = (usize, String)> + '_ {
     })
 }
 
-fn numbers(
+fn numbers<T: std::str::FromStr>(
     args: &[&str],
     path: &Path,
     line_no: usize,
     keyword: &str,
-) -> Result<Vec<f32>, LoadError> {
+) -> Result<Vec<T>, LoadError> {
     args.iter()
         .map(|a| {
-            a.parse::<f32>().map_err(|_| {
+            a.parse::<T>().map_err(|_| {
                 LoadError::parse(path, line_no, format!("`{keyword}`: `{a}` is not a number"))
             })
         })
