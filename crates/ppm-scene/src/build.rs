@@ -16,6 +16,10 @@ use ppm_core::material::Material;
 use ppm_core::scene::{RenderDefaults, SceneBuilder};
 use std::path::Path;
 
+/// A camera farther than this from the world origin (in any coordinate) has the scene made
+/// camera-relative in double precision at load; f32 keeps 6e-5 units at this distance.
+pub const FAR_CAMERA: f64 = 1e3;
+
 /// Image size when the scene file gives none.
 pub const DEFAULT_RESOLUTION: (u32, u32) = (512, 512);
 
@@ -30,10 +34,16 @@ pub fn build(
         .resolution
         .map(|r| (r.0, r.1))
         .unwrap_or(DEFAULT_RESOLUTION);
-    // Every point is made relative to the camera here, in double precision, before it is
-    // rounded to f32: a scene 1e6 units from the world origin keeps its millimetres (in f32
-    // they would snap to 1/16 of a unit). Directions (up, a quad's edges) do not move.
-    let origin = c.position.1;
+    // With the camera far from the world origin every point is made relative to the camera
+    // here, in double precision, before it is rounded to f32: a scene 1e6 units away keeps
+    // its millimetres (in f32 they would snap to 1/16 of a unit). Directions (up, a quad's
+    // edges) do not move. Nearer, points are rounded as written, as ppm always did, so the
+    // scene's content hash, and with it `--resume` of renders made before, is unchanged.
+    let origin = if c.position.1.abs().max_element() > FAR_CAMERA {
+        c.position.1
+    } else {
+        DVec3::ZERO
+    };
     let camera = Camera::new(
         c.position.relative_to(origin),
         c.look_at.relative_to(origin),

@@ -58,16 +58,14 @@ pub(super) fn prepare(
         let args: Vec<&str> = words.collect();
         match keyword {
             "v" => {
-                let p = numbers::<f64>(&args, path, line_no, "v")?;
-                let p = match p.len() {
-                    // x y z, or x y z r g b (vertex colours, unused)
-                    3 | 6 => DVec3::new(p[0], p[1], p[2]),
-                    // x y z w: homogeneous
-                    4 if p[3] != 0.0 => DVec3::new(p[0], p[1], p[2]) / p[3],
-                    4 => return Err(err("`v`: w is 0".into())),
-                    n => return Err(err(format!("`v` needs x y z [w], found {n} numbers"))),
+                // At the world origin the numbers are read as f32 directly (no double
+                // rounding through f64), exactly as ppm always read them.
+                let p = if origin == DVec3::ZERO {
+                    vertex(numbers::<f32>(&args, path, line_no, "v")?, path, line_no)?
+                } else {
+                    let p = vertex(numbers::<f64>(&args, path, line_no, "v")?, path, line_no)?;
+                    (p - origin).as_vec3()
                 };
-                let p = (p - origin).as_vec3();
                 let _ = writeln!(body, "v {} {} {}", p.x, p.y, p.z);
                 positions.push(p);
             }
@@ -187,6 +185,47 @@ pub(super) fn prepare(
     }
     out.text.push_str(&body);
     Ok(out)
+}
+
+/// A `v` statement's position from its numbers: `x y z`, `x y z r g b` (vertex colours,
+/// unused) or `x y z w` (homogeneous, divided by w).
+fn vertex<T>(p: Vec<T>, path: &Path, line_no: usize) -> Result<T::Point, LoadError>
+where
+    T: Coordinate,
+{
+    match p.len() {
+        3 | 6 => Ok(T::point(p[0], p[1], p[2])),
+        4 if p[3] != T::ZERO => Ok(T::point(p[0] / p[3], p[1] / p[3], p[2] / p[3])),
+        4 => Err(LoadError::parse(path, line_no, String::from("`v`: w is 0"))),
+        n => Err(LoadError::parse(
+            path,
+            line_no,
+            format!("`v` needs x y z [w], found {n} numbers"),
+        )),
+    }
+}
+
+/// f32 or f64 coordinates for [`vertex`].
+trait Coordinate: Copy + PartialEq + std::ops::Div<Output = Self> {
+    type Point;
+    const ZERO: Self;
+    fn point(x: Self, y: Self, z: Self) -> Self::Point;
+}
+
+impl Coordinate for f32 {
+    type Point = Vec3;
+    const ZERO: Self = 0.0;
+    fn point(x: f32, y: f32, z: f32) -> Vec3 {
+        Vec3::new(x, y, z)
+    }
+}
+
+impl Coordinate for f64 {
+    type Point = DVec3;
+    const ZERO: Self = 0.0;
+    fn point(x: f64, y: f64, z: f64) -> DVec3 {
+        DVec3::new(x, y, z)
+    }
 }
 
 /// How often something happened, and on which line first.
