@@ -20,6 +20,7 @@
 mod build;
 mod content_hash;
 mod error;
+mod light_placement;
 pub mod mtl;
 mod nesting;
 pub mod obj;
@@ -50,6 +51,13 @@ pub fn load_scene(path: &Path) -> Result<LoadedScene, LoadError> {
         path: path.to_path_buf(),
         source,
     })?;
+    for material in light_placement::lights_in_other_surfaces(&scene) {
+        warnings.push(format!(
+            "{}: a light of material `{}` lies in the plane of another surface: rays find one or the other by rounding, so the lamp looks speckled and the algorithms disagree; move it off by a little (the shipped boxes hang their lamp 2 cm under the ceiling)",
+            path.display(),
+            scene.materials[material as usize].name
+        ));
+    }
     let duplicates = scene.geometry.duplicate_triangles();
     if duplicates > 0 {
         warnings.push(format!(

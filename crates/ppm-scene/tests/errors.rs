@@ -518,6 +518,23 @@ fn warnings_for_suspicious_but_valid_scenes() {
     }
 }
 
+/// A lamp quad in the plane of the floor is named; lifted by a millimetre it is not.
+#[test]
+fn a_lamp_in_another_surfaces_plane_is_warned_about() {
+    for (y, warned) in [("0", true), ("0.001", false)] {
+        let text = format!(
+            "{VALID}  - {{ type: quad, corner: [-0.2, {y}, -0.2], edge_u: [0.4, 0, 0], edge_v: [0, 0, 0.4], material: lamp }}\n"
+        );
+        let dir = write_files(&format!("coplanar_lamp_{y}"), &[("lamp.yml", &text)]);
+        let loaded = ppm_scene::load_scene(&dir.join("lamp.yml")).unwrap();
+        let found = loaded
+            .warnings
+            .iter()
+            .any(|w| w.contains("light of material `lamp` lies in the plane of another surface"));
+        assert_eq!(found, warned, "lamp at y = {y}: {:?}", loaded.warnings);
+    }
+}
+
 #[test]
 fn optional_parts_have_documented_defaults() {
     let text = format!("{CAMERA}materials:\n  m: {{ type: mirror }}\n  g: {{ type: glass, ior: 1.5 }}\nobjects:\n  - {{ type: sphere, center: [0, 1, 0], radius: 0.5, material: m, inward: true }}\n  - {{ type: sphere, center: [0, 1, 0], radius: 0.2, material: g }}\n");

@@ -1,0 +1,123 @@
+//! Lamps lying in another surface's plane.
+//!
+//! A light quad placed exactly on a ceiling (or any emissive face coinciding with another
+//! face) is ambiguous: camera and shadow rays find the lamp or the surface by rounding, so the
+//! lamp looks speckled, while photons leave it regardless; the integrators then disagree
+//! (7-8% on a Cornell box with its lamp moved into the ceiling's plane). Found by probing:
+//! short rays along each emissive triangle's normal through a few of its interior points, from
+//! either side of its plane; one that meets another primitive at that plane names the lamp.
+
+use ppm_core::geometry::Ray;
+use ppm_core::light::Light;
+use ppm_core::scene::Scene;
+
+/// Emissive triangles probed at most (spread evenly over the lights): the check stays a
+/// fraction of the load time for a fully emissive million-triangle mesh.
+const MAX_PROBED: usize = 4096;
+
+/// Barycentric coordinates (b1, b2) of the probed points, inside the triangle.
+const POINTS: [(f32, f32); 5] = [
+    (1.0 / 3.0, 1.0 / 3.0),
+    (0.6, 0.2),
+    (0.2, 0.6),
+    (0.2, 0.2),
+    (0.45, 0.45),
+];
+
+/// The material indices of the emissive triangles that another primitive touches across
+/// their plane, within 1e-5 of their size (each index once, in order).
+pub fn lights_in_other_surfaces(scene: &Scene) -> Vec<u32> {
+    let triangles: Vec<_> = scene
+        .lights
+        .iter()
+        .filter_map(|l| match l {
+            Light::Triangle(t) => Some(t),
+            _ => None,
+        })
+        .collect();
+    let step = triangles.len().div_ceil(MAX_PROBED).max(1);
+    let mut found = Vec::new();
+    for light in triangles.iter().step_by(step) {
+        let size = light.area.sqrt();
+        let [v0, v1, v2] = light.tri.v;
+        let n = light.normal;
+        let touched = POINTS.iter().enumerate().any(|(k, &(b1, b2))| {
+            let p = v0 * (1.0 - b1 - b2) + v1 * b1 + v2 * b2;
+            // Start a little off the plane (a few sizes of rounding at p) on either side and
+            // look across it; two distances, as a tie at the plane goes either way.
+            let scale = p.abs().max_element().max(size);
+            let delta = scale * if k % 2 == 0 { 1e-5 } else { 3e-5 };
+            [n, -n].iter().any(|&side| {
+                let ray = Ray {
+                    t_max: 2.0 * delta,
+                    ..Ray::new(p + side * delta, -side)
+                };
+                scene.intersect(&ray).is_some_and(|hit| {
+                    hit.prim != light.prim && (hit.t - delta).abs() < 0.5 * delta
+                })
+            })
+        });
+        if touched {
+            let material = scene.geometry.triangle(light.prim).1;
+            if !found.contains(&material) {
+                found.push(material);
+            }
+        }
+    }
+    found
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use ppm_core::prelude::*;
+
+    /// A floor, a ceiling at y = 2 and a lamp quad facing down at `lamp_y`.
+    fn room(lamp_y: f32) -> Scene {
+        let camera = Camera::new(
+            Vec3::new(0.0, 1.0, 3.0),
+            Vec3::new(0.0, 1.0, 0.0),
+            Vec3::Y,
+            50.0,
+            (8, 8),
+        )
+        .unwrap();
+        let mut b = SceneBuilder::new(camera);
+        let white = b.add_material(Material::new(Bsdf::diffuse(Vec3::splat(0.7)), Vec3::ZERO));
+        let lamp = b.add_material(Material::new(Bsdf::diffuse(Vec3::ZERO), Vec3::splat(10.0)));
+        let quad = |c: [f32; 3], u: [f32; 3], v: [f32; 3], m| {
+            TriangleMesh::quad(Vec3::from(c), Vec3::from(u), Vec3::from(v), m)
+        };
+        b.add_mesh(quad(
+            [-1.0, 0.0, -1.0],
+            [0.0, 0.0, 2.0],
+            [2.0, 0.0, 0.0],
+            white,
+        ));
+        b.add_mesh(quad(
+            [-1.0, 2.0, -1.0],
+            [2.0, 0.0, 0.0],
+            [0.0, 0.0, 2.0],
+            white,
+        ));
+        b.add_mesh(quad(
+            [-0.25, lamp_y, -0.25],
+            [0.5, 0.0, 0.0],
+            [0.0, 0.0, 0.5],
+            lamp,
+        ));
+        b.build().unwrap()
+    }
+
+    #[test]
+    fn a_lamp_in_the_ceilings_plane_is_found_and_one_below_it_is_not() {
+        assert_eq!(lights_in_other_surfaces(&room(2.0)), [1]);
+        for y in [1.98, 1.999, 1.0] {
+            assert_eq!(
+                lights_in_other_surfaces(&room(y)),
+                [] as [u32; 0],
+                "lamp at {y}"
+            );
+        }
+    }
+}
