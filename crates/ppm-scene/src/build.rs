@@ -39,15 +39,15 @@ pub fn build(
     // its millimetres (in f32 they would snap to 1/16 of a unit). Directions (up, a quad's
     // edges) do not move. Nearer, points are rounded as written, as ppm always did, so the
     // scene's content hash, and with it `--resume` of renders made before, is unchanged.
-    let origin = if c.position.1.abs().max_element() > FAR_CAMERA {
-        c.position.1
+    let origin = if c.position.0.abs().max_element() > FAR_CAMERA {
+        c.position.0
     } else {
         DVec3::ZERO
     };
     let camera = Camera::new(
         c.position.relative_to(origin),
         c.look_at.relative_to(origin),
-        c.up.0,
+        c.up.value(),
         c.fov.0,
         resolution,
     )
@@ -118,8 +118,8 @@ pub fn build(
             ObjectType::Quad => {
                 let corner = o.corner.as_ref().ok_or_else(|| need("corner"))?;
                 let corner = corner.relative_to(origin);
-                let u = o.edge_u.as_ref().ok_or_else(|| need("edge_u"))?.0;
-                let v = o.edge_v.as_ref().ok_or_else(|| need("edge_v"))?.0;
+                let u = o.edge_u.as_ref().ok_or_else(|| need("edge_u"))?.value();
+                let v = o.edge_v.as_ref().ok_or_else(|| need("edge_v"))?.value();
                 let m = material.ok_or_else(|| need("material"))?;
                 let n = u.cross(v);
                 if !(n.is_finite() && n.length() > 1e-6 * u.length() * v.length()) {
@@ -138,7 +138,7 @@ pub fn build(
         match l.kind {
             LightType::Point => builder.add_point_light(PointLight {
                 position: l.position.relative_to(origin),
-                intensity: l.intensity.0,
+                intensity: l.intensity.value(),
             }),
         }
     }
@@ -272,7 +272,7 @@ fn material(
             format!("a {type_name} material needs `{what}`"),
         )
     };
-    let color = d.color.as_ref().map(|c| c.0);
+    let color = d.color.as_ref().map(|c| c.value());
     let bsdf = match d.kind {
         MaterialType::Diffuse => Bsdf::diffuse(color.ok_or_else(|| need("color"))?),
         MaterialType::Mirror => Bsdf::mirror(color.unwrap_or(Vec3::ONE)),
@@ -281,8 +281,8 @@ fn material(
             color.unwrap_or(Vec3::ONE),
         ),
         MaterialType::Phong => {
-            let kd = d.diffuse.as_ref().ok_or_else(|| need("diffuse"))?.0;
-            let ks = d.specular.as_ref().ok_or_else(|| need("specular"))?.0;
+            let kd = d.diffuse.as_ref().ok_or_else(|| need("diffuse"))?.value();
+            let ks = d.specular.as_ref().ok_or_else(|| need("specular"))?.value();
             let n = d.exponent.as_ref().ok_or_else(|| need("exponent"))?.0;
             let sum = kd + ks;
             if let Some(ch) = (0..3).find(|&c| sum[c] > 1.0) {
@@ -306,7 +306,7 @@ fn material(
             Bsdf::phong(kd, ks, n)
         }
     };
-    let emission = d.emission.as_ref().map_or(Vec3::ZERO, |e| e.0);
+    let emission = d.emission.as_ref().map_or(Vec3::ZERO, |e| e.value());
     Ok(Material::new(bsdf, emission).named(name))
 }
 

@@ -71,17 +71,22 @@ impl Rule for Alpha {
 /// A number checked against rule `R`.
 pub struct Num<R>(pub f32, PhantomData<R>);
 
-/// Three numbers `[x, y, z]` (or `[r, g, b]`), each checked against rule `R`: as `f32`, and
-/// as written (`f64`) for points, which the loader makes camera-relative before rounding
-/// them to `f32` ([`Triple::relative_to`]).
-pub struct Triple<R>(pub Vec3, pub DVec3, PhantomData<R>);
+/// Three numbers `[x, y, z]` (or `[r, g, b]`), each checked against rule `R`, kept as
+/// written (`f64`): points are made camera-relative before they are rounded to `f32`
+/// ([`Triple::relative_to`]), everything else is rounded as it is ([`Triple::value`]).
+pub struct Triple<R>(pub DVec3, PhantomData<R>);
 
 impl<R> Triple<R> {
+    /// The three numbers rounded to `f32`.
+    pub fn value(&self) -> Vec3 {
+        self.0.as_vec3()
+    }
+
     /// The point minus `origin`, subtracted in double precision and then rounded: a scene
     /// far from the world origin keeps the detail near its camera (1e6 + 0.001 is 1e6 in
     /// f32, but 0.001 after the subtraction).
     pub fn relative_to(&self, origin: DVec3) -> Vec3 {
-        (self.1 - origin).as_vec3()
+        (self.0 - origin).as_vec3()
     }
 }
 
@@ -104,7 +109,7 @@ impl<R> fmt::Debug for Num<R> {
 }
 impl<R> fmt::Debug for Triple<R> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        self.0.fmt(f)
+        self.value().fmt(f)
     }
 }
 
@@ -196,15 +201,14 @@ impl<'de, R: Rule> Visitor<'de> for TripleVisitor<R> {
         write!(f, "a list of three numbers, each {}", R::WHAT)
     }
     fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Triple<R>, A::Error> {
-        let mut v = [0.0f32; 3];
-        let mut exact = [0.0f64; 3];
+        let mut v = [0.0f64; 3];
         for (i, vi) in v.iter_mut().enumerate() {
             let x: f64 = seq
                 .next_element()?
                 .ok_or_else(|| de::Error::invalid_length(i, &self))?;
-            exact[i] = x;
-            *vi = x as f32;
-            if !R::ok(*vi) {
+            *vi = x;
+            // The check is of the value the renderer sees, rounded to f32.
+            if !R::ok(x as f32) {
                 return Err(de::Error::custom(format!(
                     "component {i} is {x}, expected {}",
                     R::WHAT
@@ -214,11 +218,7 @@ impl<'de, R: Rule> Visitor<'de> for TripleVisitor<R> {
         if seq.next_element::<IgnoredAny>()?.is_some() {
             return Err(de::Error::invalid_length(4, &self));
         }
-        Ok(Triple(
-            Vec3::from_array(v),
-            DVec3::from_array(exact),
-            PhantomData,
-        ))
+        Ok(Triple(DVec3::from_array(v), PhantomData))
     }
 }
 
