@@ -246,7 +246,8 @@ impl CameraPass<'_> {
     ///
     /// the cosine ratio turning the light vertices' density per unit of geometric area (an
     /// irradiance with the geometric cosine) into the shading cosine the reflected radiance
-    /// takes at x (1 when flat; see [`crate::photon::GatherNormals`]), and
+    /// takes at x ([`crate::photon::GatherNormals::weight`], the weight of ppm's and sppm's
+    /// photons; 1 when flat), and
     ///
     /// w_light = dVCM_y mis(1/eta_VCM) + dVM_y mis(p_x(wo -> wi_y)),
     /// w_camera = dVCM_x mis(1/eta_VCM) + dVM_x mis(p_x(wi_y -> wo)).
@@ -254,20 +255,20 @@ impl CameraPass<'_> {
     fn merge(&self, x: &CameraVertex) -> Vec3 {
         let c = &self.mis;
         let mut sum = Vec3::ZERO;
+        let normals = x.v.sf.gather_normals(&x.v.hit, x.v.wo);
         self.grid
             .for_each_index_in_radius(x.v.hit.p, self.radius, |i, _| {
                 let y = &self.merge_vertices[i];
                 if x.edges + y.edges > self.max_edges {
                     return;
                 }
+                let ratio = normals.weight(y.wo);
+                if ratio <= 0.0 {
+                    return;
+                }
                 let Some(e) = x.v.eval(y.wo, TransportMode::Radiance) else {
                     return;
                 };
-                // e.cos is |wi_y . ns| in x's shading frame.
-                let ratio = e.cos / y.wo.dot(x.v.hit.ng).abs();
-                if !ratio.is_finite() {
-                    return;
-                }
                 sum += e.f
                     * y.throughput
                     * (ratio * merge_weight(&y.mis, x.state, e.pdf_forward, e.pdf_reverse, c));
