@@ -11,7 +11,8 @@
 //! - `duplicates.rs`: finding exact duplicate triangles in linear time;
 //! - `build/`: the binned SAH build of the 8-wide tree;
 //! - `wide.rs`: the layout of the 8-wide nodes and leaves;
-//! - `traversal.rs`: the robust slab test and the stack traversal (closest and any hit).
+//! - `traversal.rs`: the robust slab test and the stack traversal (closest hit);
+//! - `any_hit.rs`: the any-hit traversal, with a stack of bare references.
 //!
 //! The slab test is robust: the exit distance of every box is scaled by 1 + 2 gamma(3) (Ize
 //! 2013, "Robust BVH Ray Traversal"), which covers the three roundings of (bound - o) / d, and a
@@ -26,6 +27,7 @@
 //! its binary traversal replaces direction components below f32::EPSILON by f32::EPSILON
 //! without Ize's correction.)
 
+mod any_hit;
 mod build;
 mod duplicates;
 mod stats;

@@ -1,5 +1,5 @@
 //! Traversal of the 8-wide BVH: the robust slab test of a node's eight boxes at once, and a
-//! stack walk nearest child first, for closest-hit and any-hit queries.
+//! stack walk nearest child first for closest-hit queries (any-hit ones: `any_hit.rs`).
 
 use super::wide::{packet_index, sphere_record, Leaf, Node, SphereRecord, LEAF, PACKET, WIDTH};
 use super::Geometry;
@@ -12,10 +12,10 @@ use glam::{Vec2, Vec3, Vec3A};
 
 /// Traversal stack size kept on the call stack; deeper trees (never seen in practice) use a
 /// heap stack sized at build time.
-const STACK_SIZE: usize = 64;
+pub(super) const STACK_SIZE: usize = 64;
 
 /// Stack size for trees of depth up to 2 (WIDTH - 1 entries per level, plus one).
-const SMALL_STACK_SIZE: usize = 16;
+pub(super) const SMALL_STACK_SIZE: usize = 16;
 
 /// Box exits are scaled by this (Ize 2013: three roundings in (bound - o) * inv_dir).
 const SLAB_SCALE: f32 = 1.0 + 2.0 * gamma(3);
@@ -23,7 +23,7 @@ const SLAB_SCALE: f32 = 1.0 + 2.0 * gamma(3);
 /// Primitive tests get their bound widened by this: the final comparison is on the returned t
 /// itself (`Closest::improves`, or `t < t_max` for shadow rays), so that exactly equal
 /// distances are resolved the same way everywhere.
-const WIDEN: f32 = 1.0 + 4.0 * f32::EPSILON;
+pub(super) const WIDEN: f32 = 1.0 + 4.0 * f32::EPSILON;
 
 /// The closest candidate found so far: distance, global id, barycentrics, and for a
 /// triangle found by the traversal its packet and lane (whose vertices the hit reads).
@@ -70,7 +70,7 @@ impl<'a> Closest<'a> {
 }
 
 /// Per-ray constants of the traversal.
-struct TraversalRay {
+pub(super) struct TraversalRay {
     origin: Vec3A,
     /// 1 / dir per axis, finite (see `new`).
     inv_dir: Vec3A,
@@ -81,7 +81,7 @@ struct TraversalRay {
 
 impl TraversalRay {
     #[inline(always)]
-    fn new(ray: &Ray) -> Self {
+    pub(super) fn new(ray: &Ray) -> Self {
         // 1/0 = inf would give 0 * inf = NaN for a ray in a box's face plane; a huge finite
         // inverse gives the same slab intervals (up to t ~ 1e30) without NaN.
         let inv = |d: f32| {
@@ -106,7 +106,7 @@ impl TraversalRay {
     /// met and their entry distances. All eight children at once over [`F32x8`]; no NaN can
     /// occur (see `new`), so its min/max (`a < b ? a : b`) are the exact minimum and maximum.
     #[inline(always)]
-    fn slab(&self, node: &Node, t_max: f32) -> (u32, [f32; WIDTH]) {
+    pub(super) fn slab(&self, node: &Node, t_max: f32) -> (u32, [f32; WIDTH]) {
         const _: () = assert!(WIDTH == LANES, "one F32x8 holds a node's children");
         let axis = |a: usize| {
             let (o, inv) = (F32x8::splat(self.origin[a]), F32x8::splat(self.inv_dir[a]));
@@ -122,9 +122,20 @@ impl TraversalRay {
 
     /// Intersects a sphere: t in (0, t_max].
     #[inline(always)]
-    fn sphere(&self, s: &SphereRecord, t_max: f32) -> Option<f32> {
+    pub(super) fn sphere(&self, s: &SphereRecord, t_max: f32) -> Option<f32> {
         let bound = t_max * WIDEN;
         intersect_sphere(s.center, s.radius, self.origin.into(), self.dir, bound)
+    }
+
+    /// Tests a triangle packet against (0, bound], calling `hit(t)` for each lane met.
+    #[inline(always)]
+    pub(super) fn packet_test(
+        &self,
+        packet: &TrianglePacket,
+        bound: f32,
+        mut hit: impl FnMut(f32),
+    ) {
+        packet.intersect(&self.shear, &self.packet, bound, |_, t, _, _| hit(t));
     }
 }
 
@@ -160,36 +171,15 @@ impl Geometry {
         }
     }
 
-    /// True if anything blocks the ray within (0, t_max).
-    #[inline]
-    pub fn occluded(&self, ray: &Ray) -> bool {
-        let tr = TraversalRay::new(ray);
-        let bound = ray.t_max * WIDEN;
-        self.traverse(&tr, ray.t_max, |packets, spheres, _| {
-            let mut blocked = false;
-            for packet in packets {
-                packet.intersect(&tr.shear, &tr.packet, bound, |_, t, _, _| {
-                    blocked |= t < ray.t_max;
-                });
-                if blocked {
-                    return true;
-                }
-            }
-            spheres
-                .iter()
-                .any(|s| tr.sphere(s, ray.t_max).is_some_and(|t| t < ray.t_max))
-        })
-    }
-
     /// The triangle packets of a leaf.
     #[inline(always)]
-    fn leaf_packets(&self, leaf: &Leaf) -> &[TrianglePacket] {
+    pub(super) fn leaf_packets(&self, leaf: &Leaf) -> &[TrianglePacket] {
         &self.packets[leaf.packets.0 as usize..leaf.packets.1 as usize]
     }
 
     /// The spheres of a leaf.
     #[inline(always)]
-    fn leaf_spheres(&self, leaf: &Leaf) -> &[SphereRecord] {
+    pub(super) fn leaf_spheres(&self, leaf: &Leaf) -> &[SphereRecord] {
         &self.sphere_records[leaf.spheres.0 as usize..leaf.spheres.1 as usize]
     }
 
@@ -291,7 +281,7 @@ impl Geometry {
     /// ones instead of stalling the loop when they are popped. Leaf records, rare on meshes,
     /// are not prefetched.
     #[inline(always)]
-    fn prefetch(&self, child: u32) {
+    pub(super) fn prefetch(&self, child: u32) {
         if child & LEAF == 0 {
             prefetch_lines(self.nodes.as_ptr().wrapping_add(child as usize));
         } else if child & PACKET != 0 {
@@ -326,6 +316,19 @@ impl Geometry {
             false => self.sphere_hit(ray, best.t, best.id),
         })
     }
+}
+
+/// Prefetches the cache line of address `p` (into every level); a prefetch never faults.
+#[inline(always)]
+pub(super) fn prefetch_line(p: usize) {
+    #[cfg(target_arch = "x86_64")]
+    // SAFETY: a prefetch is a hint with no architectural effect; it never faults, whatever
+    // the address.
+    unsafe {
+        std::arch::x86_64::_mm_prefetch::<{ std::arch::x86_64::_MM_HINT_T0 }>(p as *const i8)
+    };
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = p;
 }
 
 /// Prefetches the cache lines of the value at `p` (into every level). `p` is never

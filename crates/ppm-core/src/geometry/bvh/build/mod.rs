@@ -3,9 +3,10 @@
 //!
 //! An 8-wide node is formed as Embree's BVH8 builder forms one: starting from its set, the
 //! child with the largest surface area that the SAH would split is split, until there are
-//! eight children or no child should be split. Large children are built as parallel tasks
-//! on the current rayon pool, each into a subtree of its own, appended in child order: the
-//! tree, its memory layout and so every answer are the same on any number of threads.
+//! eight children or no child should be split; the children take the node's slots by size.
+//! Large children are built as parallel tasks on the current rayon pool, each into a subtree
+//! of its own, appended in child order: the tree, its memory layout and so every answer are
+//! the same on any number of threads.
 
 mod sah;
 
@@ -110,6 +111,15 @@ fn build_node(
         };
         count += 1;
     }
+    // The node's slots hold the children by size, the most primitives first, ties in range
+    // order (a stable sort), as Embree's builder orders them: the any-hit traversal visits
+    // the highest slot first (`any_hit.rs`). The children's ranges keep their order.
+    let mut by_size: [usize; WIDTH] = std::array::from_fn(|i| i);
+    by_size[..count].sort_by_key(|&i| std::cmp::Reverse(children[i].end - children[i].start));
+    let mut slot_of = [0usize; WIDTH];
+    for (slot, &i) in by_size[..count].iter().enumerate() {
+        slot_of[i] = slot;
+    }
     let slot = out.nodes.len();
     out.nodes.push(Node::EMPTY);
     let mut node = Node::EMPTY;
@@ -128,12 +138,12 @@ fn build_node(
                 LEAF | (out.leaves.len() as u32 - 1)
             }
             Some(split) if slice.len() >= PARALLEL_MIN => {
-                tasks.push((i, slice, offset + c.start, c.info, split));
+                tasks.push((slot_of[i], slice, offset + c.start, c.info, split));
                 continue;
             }
             Some(split) => build_node(slice, offset + c.start, c.info, split, out, depth + 1),
         };
-        node.set_child(i, c.info.bounds(), child);
+        node.set_child(slot_of[i], c.info.bounds(), child);
     }
     let subtrees: Vec<(usize, Subtree)> = tasks
         .into_par_iter()
@@ -143,9 +153,13 @@ fn build_node(
             (i, sub)
         })
         .collect();
-    for (i, sub) in subtrees {
+    for (child_slot, sub) in subtrees {
         let root = out.append(sub, depth);
-        node.set_child(i, children[i].info.bounds(), root);
+        node.set_child(
+            child_slot,
+            children[by_size[child_slot]].info.bounds(),
+            root,
+        );
     }
     out.nodes[slot] = node;
     slot as u32
