@@ -10,7 +10,7 @@
 //! the others are deferred in slot order. The build puts a node's children in slots by size,
 //! the most primitives first (`build/mod.rs`), so these rays visit the smaller subtrees first,
 //! as Embree's do. On the million-triangle benchmark mesh a shadow ray then takes a quarter
-//! fewer instructions and half the mispredicted branches of a nearest-first sort, for 6%
+//! fewer instructions and about half the mispredicted branches of a nearest-first sort, for 7%
 //! more first-level cache misses; children in slot order without the build's order by size
 //! cost 40% more (docs/performance.md, 2026-12-03 09:30).
 
