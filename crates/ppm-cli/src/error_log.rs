@@ -1,8 +1,13 @@
 //! Error against a reference during a render: when to measure it (log-spaced iterations) and
 //! the samples it gives.
 
+use crate::output;
+use anyhow::Result;
 use ppm_core::film::Image;
 use ppm_core::metrics::{error_metrics, SizeMismatch};
+use std::fs::File;
+use std::io::{BufWriter, Write};
+use std::path::{Path, PathBuf};
 
 /// Iterations logged one by one before the spacing becomes logarithmic.
 const DENSE_ITERATIONS: u64 = 16;
@@ -62,6 +67,67 @@ impl ErrorSample {
     }
 }
 
+/// The `--error-log` CSV being written. A line that cannot be written (a full disk) ends the
+/// log, not the render: [`ErrorLog::record`] hands back the warning to print.
+pub struct ErrorLog<W: Write> {
+    out: Option<W>,
+    path: PathBuf,
+}
+
+impl ErrorLog<BufWriter<File>> {
+    /// Opens the log and writes its header. A render that continues an earlier one of
+    /// `continues_after` iterations (`--resume`, > 0) keeps the rows the file has for those
+    /// iterations, so that the log goes on where that render's left off; rows past them
+    /// (logged after the checkpoint it resumes) are dropped, and a file that is not such a
+    /// log is replaced, as for any other run.
+    pub fn open(path: &Path, continues_after: u64) -> Result<Self> {
+        let kept: Vec<String> = match continues_after {
+            0 => Vec::new(),
+            _ => std::fs::read_to_string(path)
+                .ok()
+                .filter(|text| text.lines().next() == Some(ErrorSample::CSV_HEADER))
+                .map(|text| {
+                    text.lines()
+                        .skip(1)
+                        .take_while(|row| {
+                            row.split(',')
+                                .next()
+                                .and_then(|i| i.parse::<u64>().ok())
+                                .is_some_and(|i| i <= continues_after)
+                        })
+                        .map(str::to_string)
+                        .collect()
+                })
+                .unwrap_or_default(),
+        };
+        let mut out = output::create_log(path)?;
+        output::log_line(&mut out, path, ErrorSample::CSV_HEADER)?;
+        for row in &kept {
+            output::log_line(&mut out, path, row)?;
+        }
+        Ok(ErrorLog {
+            out: Some(out),
+            path: path.to_path_buf(),
+        })
+    }
+}
+
+impl<W: Write> ErrorLog<W> {
+    /// Appends a sample's row and flushes it. On failure the log is closed for good and the
+    /// warning to print is returned; the render goes on.
+    pub fn record(&mut self, sample: &ErrorSample) -> Option<String> {
+        let out = self.out.as_mut()?;
+        let written = writeln!(out, "{}", sample.csv_row()).and_then(|_| out.flush());
+        written.err().map(|e| {
+            self.out = None;
+            format!(
+                "warning: cannot write {}: {e}; the error log stops here, the render goes on",
+                self.path.display()
+            )
+        })
+    }
+}
+
 /// Measures a render against its reference on the [`LogSchedule`].
 pub struct ErrorTracker {
     reference: Image,
@@ -110,6 +176,65 @@ impl ErrorTracker {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A writer that accepts `room` bytes, then fails as a full disk does.
+    struct FullAfter {
+        room: usize,
+    }
+
+    impl Write for FullAfter {
+        fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+            if buf.len() > self.room {
+                return Err(std::io::Error::from_raw_os_error(28)); // ENOSPC
+            }
+            self.room -= buf.len();
+            Ok(buf.len())
+        }
+        fn flush(&mut self) -> std::io::Result<()> {
+            Ok(())
+        }
+    }
+
+    /// A log that fills the disk stops with one warning and never fails the render.
+    #[test]
+    fn a_full_disk_ends_the_log_with_a_warning() {
+        let sample = |iteration| ErrorSample {
+            iteration,
+            seconds: 1.0,
+            rel_mse: 0.5,
+            rmse: 0.25,
+        };
+        let row = sample(1).csv_row().len() + 1;
+        let mut log = ErrorLog {
+            out: Some(FullAfter { room: 2 * row }),
+            path: PathBuf::from("run.csv"),
+        };
+        assert_eq!(log.record(&sample(1)), None);
+        assert_eq!(log.record(&sample(2)), None);
+        let warning = log.record(&sample(3)).expect("the third row does not fit");
+        assert!(
+            warning.contains("run.csv") && warning.contains("render goes on"),
+            "{warning}"
+        );
+        assert!(log.out.is_none());
+        assert_eq!(log.record(&sample(4)), None, "one warning, then silence");
+    }
+
+    /// A resumed render's log keeps the rows of the iterations it continues, and only those.
+    #[test]
+    fn a_resumed_log_keeps_the_rows_it_continues() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("run.csv");
+        let rows = ["1,0.1,1e0,1e0", "2,0.2,5e-1,5e-1", "3,0.3,3e-1,3e-1"];
+        let file = |rows: &[&str]| format!("{}\n{}\n", ErrorSample::CSV_HEADER, rows.join("\n"));
+        std::fs::write(&path, file(&rows)).unwrap();
+        drop(ErrorLog::open(&path, 2).unwrap());
+        assert_eq!(std::fs::read_to_string(&path).unwrap(), file(&rows[..2]));
+        // A fresh render (nothing continued) starts the log over.
+        drop(ErrorLog::open(&path, 0).unwrap());
+        let header_only = format!("{}\n", ErrorSample::CSV_HEADER);
+        assert_eq!(std::fs::read_to_string(&path).unwrap(), header_only);
+    }
     use glam::Vec3;
 
     #[test]

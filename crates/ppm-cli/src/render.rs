@@ -1,7 +1,7 @@
 //! The render loop (shared by `ppm render` and `ppm converge`) and the render command.
 
 use crate::args::{AlgorithmArg, AovArg, RenderArgs, DEFAULT_ITERATIONS};
-use crate::error_log::{ErrorSample, ErrorTracker};
+use crate::error_log::{ErrorLog, ErrorTracker};
 use crate::output::{self, OutputPaths};
 use crate::progress::{peak_rss_bytes, Progress, Summary};
 use crate::provenance::Provenance;
@@ -297,11 +297,7 @@ pub fn run(args: &RenderArgs, interrupt: &Interrupt) -> Result<Outcome> {
     let (earlier_iterations, earlier_seconds) =
         (start.snapshot.film.iterations(), provenance.render_seconds);
     let mut log = match &args.error_log {
-        Some(path) => {
-            let mut log = output::create_log(path)?;
-            output::log_line(&mut log, path, ErrorSample::CSV_HEADER)?;
-            Some((log, path.as_path()))
-        }
+        Some(path) => Some(ErrorLog::open(path, earlier_iterations)?),
         None => None,
     };
     let mut checkpoints = args.checkpoint.map(|s| Checkpoints {
@@ -347,8 +343,10 @@ pub fn run(args: &RenderArgs, interrupt: &Interrupt) -> Result<Outcome> {
                                 || renderer.image(),
                             )
                             .context("comparing with --reference")?;
-                        if let (Some(sample), Some((log, path))) = (sample, &mut log) {
-                            output::log_line(log, path, &sample.csv_row())?;
+                        if let (Some(sample), Some(log)) = (sample, &mut log) {
+                            if let Some(warning) = log.record(&sample) {
+                                status!("\n{warning}");
+                            }
                         }
                     }
                     if let Some(checkpoints) = &mut checkpoints {
