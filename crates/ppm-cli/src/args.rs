@@ -13,7 +13,7 @@ const AFTER_HELP: &str = "\
 Output: a PNG (8-bit sRGB) and a linear float EXR with the same stem are always both written.
 
 Exit status: 0 on success, 1 on an error, 2 on bad command-line usage, 130 when a render was
-stopped by Ctrl-C, SIGTERM or SIGHUP (the iteration in progress is abandoned and the image of
+stopped by Ctrl-C, SIGTERM, SIGHUP, SIGUSR1, SIGUSR2 or SIGXCPU (the iteration in progress is abandoned and the image of
 all finished iterations written; with none finished nothing is written; a second signal, a
 second or more after the first, quits at once without writing).";
 

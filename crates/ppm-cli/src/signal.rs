@@ -1,6 +1,7 @@
 //! Stop requests: Ctrl-C (SIGINT), SIGTERM (sent by `timeout`, systemd, `docker stop` and
-//! batch schedulers at a job's time limit) and SIGHUP (a closed terminal) are all handled
-//! alike. The first one stops the render: the iteration in progress is abandoned (its passes
+//! batch schedulers at a job's time limit), SIGHUP (a closed terminal), SIGUSR1 and SIGUSR2
+//! (what Slurm's `--signal` sends ahead of a time limit) and SIGXCPU (a soft CPU-time limit,
+//! `ulimit -t`) are all handled alike. The first one stops the render: the iteration in progress is abandoned (its passes
 //! poll the flag) and the image of all finished iterations is written, unless none has
 //! finished, in which case nothing is written and existing files are left alone. A second
 //! one, [`REPEAT_WINDOW`] or more after the first, exits at once without writing. Either way
@@ -10,15 +11,26 @@
 //! process group, which holds the child again, and any supervisor that signals both a
 //! process and its group does the same. Signals within [`REPEAT_WINDOW`] of the first are
 //! therefore the same request, not an order to quit without writing.
+//!
+//! A signal the process inherits as ignored stays ignored: `nohup ppm ...` keeps rendering
+//! after a hang-up, and so does a render a script starts in the background (`ppm ... &`),
+//! which the shell starts with SIGINT ignored. SIGXFSZ (a file larger than `ulimit -f`) is
+//! ignored, so that such a write fails as a full disk does, leaving the files before it,
+//! instead of killing the process.
 
 use anyhow::{Context, Result};
+use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM, SIGUSR1, SIGUSR2, SIGXCPU, SIGXFSZ};
+use signal_hook::iterator::Signals;
 use std::sync::atomic::{AtomicU32, Ordering};
 use std::sync::{Arc, OnceLock};
 use std::time::{Duration, Instant};
 
-/// Exit status after an interrupted render, whichever of SIGINT, SIGTERM or SIGHUP stopped it:
-/// 130 (128 + SIGINT, the shell convention for Ctrl-C). One status for all three, because the
-/// handler cannot tell them apart and because scripts test for one "stopped early" status.
+/// The signals that stop a render.
+pub const STOP_SIGNALS: [i32; 6] = [SIGINT, SIGTERM, SIGHUP, SIGUSR1, SIGUSR2, SIGXCPU];
+
+/// Exit status after an interrupted render, whichever stop signal stopped it:
+/// 130 (128 + SIGINT, the shell convention for Ctrl-C). One status for all of them, because
+/// scripts test for one "stopped early" status.
 pub const EXIT_INTERRUPTED: u8 = 130;
 
 /// Stop signals within this time of the first one repeat it: they do not quit at once.
@@ -51,10 +63,32 @@ impl Interrupt {
         Self::default()
     }
 
-    /// Installs the process's handler for SIGINT, SIGTERM and SIGHUP (once per process).
+    /// Installs the process's handler for the [`STOP_SIGNALS`] it does not inherit as
+    /// ignored (once per process), and ignores SIGXFSZ. The handler runs on a thread of its
+    /// own (signal-hook's), so it may print and exit.
     pub fn install_handler(&self) -> Result<()> {
+        let watched: Vec<i32> = STOP_SIGNALS
+            .into_iter()
+            .filter(|&signal| !inherited_as_ignored(signal))
+            .collect();
+        ignore_if_default(SIGXFSZ);
+        let mut signals =
+            Signals::new(&watched).context("cannot install the stop-signal handler")?;
         let this = self.clone();
-        ctrlc::set_handler(move || match this.signal_at(Instant::now()) {
+        std::thread::Builder::new()
+            .name("ppm-signals".into())
+            .spawn(move || {
+                for _ in signals.forever() {
+                    this.on_signal();
+                }
+            })
+            .context("cannot start the stop-signal thread")?;
+        Ok(())
+    }
+
+    /// What a stop signal does: raise the flag and say so, or quit on a late second one.
+    fn on_signal(&self) {
+        match self.signal_at(Instant::now()) {
             StopRequest::Stop => status!(
                 "\nppm: interrupted: abandoning the iteration in progress, then writing what \
                  the finished ones give (a render's image, converge's CSV and plot; stop again \
@@ -68,8 +102,7 @@ impl Interrupt {
                 status!("\nppm: interrupted twice, exiting now without writing");
                 std::process::exit(EXIT_INTERRUPTED.into());
             }
-        })
-        .context("cannot install the stop-signal handler")
+        }
     }
 
     /// A stop signal that arrived at `now`: raises the flag and says what it asks for.
@@ -92,6 +125,29 @@ impl Interrupt {
     /// True once an interrupt arrived.
     pub fn requested(&self) -> bool {
         self.count.load(Ordering::SeqCst) > 0
+    }
+}
+
+/// The current disposition of `signal`, read without changing it.
+fn disposition(signal: i32) -> Option<libc::sighandler_t> {
+    // SAFETY: sigaction with a null new action only reads the current one into `old`, a
+    // zeroed (valid) struct of the right type.
+    unsafe {
+        let mut old: libc::sigaction = std::mem::zeroed();
+        (libc::sigaction(signal, std::ptr::null(), &mut old) == 0).then_some(old.sa_sigaction)
+    }
+}
+
+/// True if the process was started with `signal` ignored (`nohup`, a background job).
+fn inherited_as_ignored(signal: i32) -> bool {
+    disposition(signal) == Some(libc::SIG_IGN)
+}
+
+/// Ignores `signal` unless something has set a handler for it.
+fn ignore_if_default(signal: i32) {
+    if disposition(signal) == Some(libc::SIG_DFL) {
+        // SAFETY: setting a signal to SIG_IGN installs no code; it cannot break invariants.
+        unsafe { libc::signal(signal, libc::SIG_IGN) };
     }
 }
 

@@ -102,12 +102,14 @@ fn wait_for_file(path: &Path) {
     }
 }
 
-/// SIGTERM (timeout, systemd, docker stop, batch schedulers) and SIGHUP (a closed terminal)
-/// stop a render like Ctrl-C: the finished iterations are written and the status is 130.
+/// SIGTERM (timeout, systemd, docker stop, batch schedulers), SIGHUP (a closed terminal),
+/// SIGUSR1 and SIGUSR2 (Slurm's `--signal` before a time limit) and SIGXCPU (a CPU-time
+/// limit) stop a render like Ctrl-C: the finished iterations are written and the status is
+/// 130.
 #[cfg(unix)]
 #[test]
-fn sigterm_and_sighup_write_the_finished_iterations_and_exit_130() {
-    for signal in ["TERM", "HUP"] {
+fn stop_signals_write_the_finished_iterations_and_exit_130() {
+    for signal in ["TERM", "HUP", "USR1", "USR2", "XCPU"] {
         let dir = tempfile::tempdir().unwrap();
         tiny_scene(dir.path());
         let args = ["tiny.yml", "--time-limit", "1000", "--checkpoint", "0.01"];
@@ -127,6 +129,78 @@ fn sigterm_and_sighup_write_the_finished_iterations_and_exit_130() {
             "SIG{signal}: no temporary file left"
         );
     }
+}
+
+/// A signal ppm inherits as ignored stays ignored: `nohup ppm ...` (here `trap "" HUP`, the
+/// same disposition) renders on after a hang-up, as a background job of a script does after
+/// SIGINT. SIGTERM still stops it.
+#[cfg(unix)]
+#[test]
+fn a_signal_inherited_as_ignored_does_not_stop_the_render() {
+    for (signal, trap) in [("HUP", "HUP"), ("INT", "INT")] {
+        let dir = tempfile::tempdir().unwrap();
+        tiny_scene(dir.path());
+        let mut child = std::process::Command::new("sh")
+            .current_dir(dir.path())
+            .args([
+                "-c",
+                &format!(
+                    "trap '' {trap}; exec \"$0\" tiny.yml --time-limit 1000 --checkpoint 0.01"
+                ),
+                env!("CARGO_BIN_EXE_ppm"),
+            ])
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        let stderr = child.stderr.take().unwrap();
+        let (send, lines) = mpsc::channel();
+        std::thread::spawn(move || {
+            for line in BufReader::new(stderr).split(b'\n').map_while(Result::ok) {
+                let _ = send.send(String::from_utf8_lossy(&line).into_owned());
+            }
+        });
+        wait_for_file(&dir.path().join("tiny.exr"));
+        kill(&child, signal);
+        // A handled stop ends the render within milliseconds; an ignored one changes nothing.
+        std::thread::sleep(Duration::from_millis(1500));
+        assert!(
+            child.try_wait().unwrap().is_none(),
+            "SIG{signal}, inherited as ignored, stopped the render"
+        );
+        kill(&child, "TERM");
+        let (code, err) = finish(child, lines);
+        assert_eq!(code, Some(130), "SIG{signal} then SIGTERM: {err}");
+        assert!(!err.contains("interrupted twice"), "{err}");
+    }
+}
+
+/// A file-size limit (`ulimit -f`) makes a write fail like a full disk, with a message and
+/// status 1, instead of killing ppm with SIGXFSZ.
+#[cfg(unix)]
+#[test]
+fn a_file_size_limit_is_an_error_not_a_kill() {
+    let dir = tempfile::tempdir().unwrap();
+    tiny_scene(dir.path());
+    let out = std::process::Command::new("sh")
+        .current_dir(dir.path())
+        .args([
+            "-c",
+            "ulimit -f 1; exec \"$0\" tiny.yml -n 1",
+            env!("CARGO_BIN_EXE_ppm"),
+        ])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("was replaced") || err.contains("too large"),
+        "{err}"
+    );
+    assert_eq!(
+        file_names(dir.path()),
+        ["tiny.yml"],
+        "no partial or temporary file"
+    );
 }
 
 /// One stop delivered twice at once, as coreutils `timeout` does (the child, then its
