@@ -132,12 +132,10 @@ impl PpmRenderer {
             Radius::Auto => 1.0,
         };
         PpmRenderer {
-            // The schedule is 1-based: 0-based iteration k uses its (k + 1)-th radius.
-            schedule: RadiusSchedule::at_iteration(
-                start,
-                settings.alpha,
-                film.next_iteration() + 1,
-            ),
+            // 1-based: 0-based iteration k uses the (k + 1)-th radius. A render that starts
+            // later (a shard, a resumed render) replays the schedule to its first iteration
+            // in `iterate_until`, where a stop request can cut the replay short.
+            schedule: RadiusSchedule::new(start, settings.alpha),
             pixel_radii: None,
             last_scale: None,
             settings,
@@ -229,6 +227,9 @@ impl PpmRenderer {
         stop: &F,
     ) -> Option<IterationStats> {
         let iteration = self.film.next_iteration();
+        if !self.schedule.advance_to(iteration + 1, stop) {
+            return None;
+        }
         let mut passes = PassTimes::default();
         let mut clock = Stopwatch::start();
         let mut pilot = RayCounters::default();
@@ -332,7 +333,9 @@ impl PpmRenderer {
     /// will be built for (the [`GRID_QUANTILE`] quantile of the pixels'; before the first
     /// iteration, the schedule's factor 1).
     pub fn radius(&self) -> f32 {
-        let scale = self.schedule.radius();
+        let mut schedule = self.schedule;
+        schedule.advance_to(self.film.next_iteration() + 1, &|| false);
+        let scale = schedule.radius();
         self.pixel_radii.as_ref().map_or(scale, |p| p.grid * scale)
     }
 

@@ -29,16 +29,32 @@ impl RadiusSchedule {
     }
 
     /// The schedule at the 1-based `iteration`: the radius every render of these settings
-    /// uses there, bit for bit. The recurrence is replayed (iteration - 1 multiplications, a
-    /// second for 10^8 iterations) rather than evaluated by the closed form, whose Gamma
-    /// functions would round differently: a shard or a resumed render starting at iteration
-    /// k must use exactly the radius an uninterrupted render reached there.
+    /// uses there, bit for bit (see [`RadiusSchedule::advance_to`]).
     pub fn at_iteration(radius: f32, alpha: f32, iteration: u64) -> Self {
         let mut schedule = RadiusSchedule::new(radius, alpha);
-        while schedule.iteration < iteration {
-            schedule.advance();
-        }
+        schedule.advance_to(iteration, &|| false);
         schedule
+    }
+
+    /// Advances to the 1-based `iteration` (no further than that; an earlier one is a no-op).
+    /// The recurrence is replayed (a multiplication per iteration, about a second for 10^9)
+    /// rather than evaluated by the closed form, whose Gamma functions would round
+    /// differently: a shard or a resumed render starting at iteration k must use exactly the
+    /// radius an uninterrupted render reached there. `stop` is asked every 2^20 steps; if it
+    /// says yes, false is returned and the schedule stays where it got, so a later call goes
+    /// on from there (a shard far into a huge `-n` still stops at once).
+    pub fn advance_to<F: Fn() -> bool>(&mut self, iteration: u64, stop: &F) -> bool {
+        const STEPS_PER_POLL: u64 = 1 << 20;
+        while self.iteration < iteration {
+            if stop() {
+                return false;
+            }
+            let end = iteration.min(self.iteration.saturating_add(STEPS_PER_POLL));
+            while self.iteration < end {
+                self.advance();
+            }
+        }
+        true
     }
 
     /// The radius of the current iteration.
@@ -67,6 +83,27 @@ impl RadiusSchedule {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A replay cut short by a stop request keeps what it reached and, continued, ends bit
+    /// for bit where an uninterrupted one does.
+    #[test]
+    fn a_stopped_replay_goes_on_where_it_stopped() {
+        let target = 3 << 20;
+        let polls = std::cell::Cell::new(0);
+        let stop_at_third_poll = || {
+            polls.set(polls.get() + 1);
+            polls.get() == 3
+        };
+        let mut schedule = RadiusSchedule::new(0.05, 0.7);
+        assert!(!schedule.advance_to(target, &stop_at_third_poll));
+        assert_eq!(schedule.iteration(), 1 + (2 << 20), "two chunks before the stop");
+        assert!(schedule.advance_to(target, &|| false));
+        let straight = RadiusSchedule::at_iteration(0.05, 0.7, target);
+        assert_eq!(schedule.iteration(), target);
+        assert_eq!(schedule.radius2().to_bits(), straight.radius2().to_bits());
+        assert!(schedule.advance_to(5, &|| true), "an earlier iteration is no work");
+        assert_eq!(schedule.iteration(), target);
+    }
 
     /// ln Gamma(x) for x > 0 by recurrence up to x >= 10, then Stirling's series (error < 1e-12).
     fn ln_gamma(mut x: f64) -> f64 {

@@ -133,12 +133,10 @@ impl VcmRenderer {
             Radius::Auto => 1.0,
         };
         VcmRenderer {
-            // 1-based: 0-based iteration k uses the (k + 1)-th radius.
-            schedule: RadiusSchedule::at_iteration(
-                start,
-                settings.alpha,
-                film.next_iteration() + 1,
-            ),
+            // 1-based: 0-based iteration k uses the (k + 1)-th radius. A render that starts
+            // later (a shard, a resumed render) replays the schedule to its first iteration
+            // in `iterate_until`, where a stop request can cut the replay short.
+            schedule: RadiusSchedule::new(start, settings.alpha),
             auto_radius: None,
             last_radius: None,
             settings,
@@ -246,6 +244,9 @@ impl VcmRenderer {
         stop: &F,
     ) -> Option<IterationStats> {
         let iteration = self.film.next_iteration();
+        if !self.schedule.advance_to(iteration + 1, stop) {
+            return None;
+        }
         let mut passes = PassTimes::default();
         let mut clock = Stopwatch::start();
         let mut pilot = RayCounters::default();
