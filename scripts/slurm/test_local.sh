@@ -123,7 +123,8 @@ done
 
 # A tiny scene and render, so four shards and the merge take seconds.
 scene="$repo/scenes/cornell_box.yml"
-flags=(--width 32 --height 32 --photons 2000 --seed 7)
+# --threads: a flag render_shard.sbatch also sets, which the user's flags replace.
+flags=(--width 32 --height 32 --photons 2000 --seed 7 --threads 1)
 iterations=12 shards=4
 log "submitting $shards shards of $iterations iterations and the merge job"
 (cd "$work" && PPM=$ppm "$here/submit.sh" "$scene" "$iterations" "$shards" out "${flags[@]}")

@@ -24,6 +24,8 @@ second or more after the first, quits at once without writing).";
     version,
     args_conflicts_with_subcommands = true,
     subcommand_negates_reqs = true,
+    // `--seed -1` is a value out of range, reported as such, not an unknown option `-1`.
+    allow_negative_numbers = true,
     after_help = AFTER_HELP
 )]
 pub struct Cli {
@@ -111,7 +113,7 @@ pub struct RenderArgs {
     pub aov: Vec<AovArg>,
     /// Render only slice I (0-based) of K equal slices of the -n iterations; join the K
     /// EXRs with `ppm merge`.
-    #[arg(long, value_name = "I/K", value_parser = crate::provenance::parse_shard_arg, requires = "iterations")]
+    #[arg(long, value_name = "I/K", allow_hyphen_values = true, value_parser = crate::provenance::parse_shard_arg, requires = "iterations")]
     pub shard: Option<(u64, u64)>,
     /// Continue the render saved in this EXR (a finished image or a checkpoint) for -n more
     /// iterations; the scene and settings must be the file's.

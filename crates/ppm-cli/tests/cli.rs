@@ -46,6 +46,10 @@ fn bad_flag_values_are_usage_errors() {
         (&["tiny.yml", "--alpha", "1.5"], "--alpha"),
         (&["tiny.yml", "--threads", "0"], "--threads"),
         (&["tiny.yml", "--width", "0"], "--width"),
+        // Negative numbers are values out of range, not unknown options `-1`.
+        (&["tiny.yml", "--seed", "-1"], "--seed"),
+        (&["tiny.yml", "--max-depth", "-1"], "--max-depth"),
+        (&["tiny.yml", "-n", "4", "--shard", "-1/4"], "--shard"),
         (&["tiny.yml", "--time-limit", "soon"], "--time-limit"),
         (&["tiny.yml", "-a", "mlt"], "--algorithm"),
         (&["tiny.yml", "--direct", "maybe"], "--direct"),

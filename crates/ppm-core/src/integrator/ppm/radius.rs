@@ -96,12 +96,19 @@ mod tests {
         };
         let mut schedule = RadiusSchedule::new(0.05, 0.7);
         assert!(!schedule.advance_to(target, &stop_at_third_poll));
-        assert_eq!(schedule.iteration(), 1 + (2 << 20), "two chunks before the stop");
+        assert_eq!(
+            schedule.iteration(),
+            1 + (2 << 20),
+            "two chunks before the stop"
+        );
         assert!(schedule.advance_to(target, &|| false));
         let straight = RadiusSchedule::at_iteration(0.05, 0.7, target);
         assert_eq!(schedule.iteration(), target);
         assert_eq!(schedule.radius2().to_bits(), straight.radius2().to_bits());
-        assert!(schedule.advance_to(5, &|| true), "an earlier iteration is no work");
+        assert!(
+            schedule.advance_to(5, &|| true),
+            "an earlier iteration is no work"
+        );
         assert_eq!(schedule.iteration(), target);
     }
 
