@@ -175,6 +175,19 @@ impl Bsdf {
         }
     }
 
+    /// The probability that [`Bsdf::sample`] picks the diffuse part: 1 for a diffuse BSDF, 0
+    /// for one without a diffuse part, for a phong surface the diffuse part's share of the
+    /// two albedos' luminances. A walk that must take one part or the other takes it with
+    /// this probability, so its weight, albedo / probability, stays near the total albedo.
+    #[inline]
+    pub fn diffuse_probability(&self) -> f32 {
+        match self {
+            Bsdf::Diffuse(_) => 1.0,
+            Bsdf::Mirror(_) | Bsdf::Glass(_) => 0.0,
+            Bsdf::Phong(b) => 1.0 - b.glossy_probability(),
+        }
+    }
+
     /// True if every lobe is a delta (mirror, glass): no photons are stored and no light is
     /// sampled at such a vertex.
     #[inline]

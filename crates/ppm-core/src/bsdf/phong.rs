@@ -75,7 +75,7 @@ impl Phong {
 
     /// Probability of sampling the glossy lobe, proportional to its albedo.
     #[inline]
-    fn glossy_probability(&self) -> f32 {
+    pub(super) fn glossy_probability(&self) -> f32 {
         let (d, s) = (luminance(self.diffuse), luminance(self.specular));
         if s <= 0.0 {
             0.0
