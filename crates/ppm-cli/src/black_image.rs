@@ -8,7 +8,7 @@
 
 use crate::render::LoopTotals;
 use ppm_core::film::Image;
-use ppm_core::integrator::{Algorithm, RenderSettings};
+use ppm_core::integrator::{Algorithm, DirectMode, RenderSettings};
 use ppm_core::scene::{Scene, SceneBuilder};
 use ppm_core::{Vec2, Vec3};
 use std::path::Path;
@@ -129,6 +129,10 @@ pub struct RenderFacts<'a> {
     /// Light paths traced and photons stored over the whole render (photon mapping).
     pub light_paths: u64,
     pub photons: u64,
+    /// The depth bound, and whether direct light was sampled (photons then start at their
+    /// second bounce).
+    pub max_depth: u32,
+    pub direct_sampled: bool,
 }
 
 /// Reasons why `image` is black or nearly so, one line each; empty when it is not black.
@@ -193,7 +197,14 @@ pub fn explain(image: &Image, facts: &RenderFacts<'_>) -> Vec<String> {
         lines.push("no camera ray hits any geometry: the camera looks away from the scene".into());
     }
     if facts.photon_mapping {
-        if facts.photons == 0 {
+        if facts.photons == 0 && facts.direct_sampled && facts.max_depth < 2 {
+            lines.push(format!(
+                "no photon was stored: with direct light sampled, photons are stored from \
+                 their second bounce, which --max-depth {} leaves out; only what the camera \
+                 sees lit directly is in the image",
+                facts.max_depth
+            ));
+        } else if facts.photons == 0 {
             lines.push(format!(
                 "none of the {} light paths stored a photon: no light reached a diffuse surface",
                 facts.light_paths
@@ -232,6 +243,8 @@ pub fn warn_if_black(
         photon_mapping: settings.algorithm == Algorithm::Ppm,
         light_paths: totals.light_paths,
         photons: totals.photons,
+        max_depth: settings.max_depth,
+        direct_sampled: settings.direct == DirectMode::Sampled,
     };
     for line in explain(image, &facts) {
         status!("warning: {line}");
@@ -290,6 +303,8 @@ mod tests {
             photon_mapping: true,
             light_paths: 1000,
             photons: 0,
+            max_depth: 32,
+            direct_sampled: true,
         };
         let mut image = Image {
             width: 8,
@@ -300,6 +315,19 @@ mod tests {
         assert!(
             black.iter().any(|l| l.contains("stored a photon")),
             "{black:?}"
+        );
+        // At depth 1 no photon can be stored with direct light sampled: not "no light".
+        let shallow = explain(
+            &image,
+            &RenderFacts {
+                max_depth: 1,
+                ..facts
+            },
+        );
+        assert!(
+            shallow.iter().any(|l| l.contains("--max-depth 1 leaves out"))
+                && !shallow.iter().any(|l| l.contains("no light reached")),
+            "{shallow:?}"
         );
         // Without any light: one line, the loader having named the cause in detail.
         let dark = SceneBuilder::new(builder.camera).build();
