@@ -325,7 +325,9 @@ mod tests {
             },
         );
         assert!(
-            shallow.iter().any(|l| l.contains("--max-depth 1 leaves out"))
+            shallow
+                .iter()
+                .any(|l| l.contains("--max-depth 1 leaves out"))
                 && !shallow.iter().any(|l| l.contains("no light reached")),
             "{shallow:?}"
         );

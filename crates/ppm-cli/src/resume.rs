@@ -92,7 +92,12 @@ pub fn plan(args: &StartArgs, provenance: &Provenance) -> Result<Start> {
         }
     };
     provenance.render_seconds = saved.provenance.render_seconds;
-    provenance.threads = format!("{},{}", saved.provenance.threads, provenance.threads);
+    // The runs that contributed iterations: this one only if it has any left to render.
+    provenance.threads = if iterations == Some(0) {
+        saved.provenance.threads.clone()
+    } else {
+        format!("{},{}", saved.provenance.threads, provenance.threads)
+    };
     Ok(Start {
         snapshot: saved.snapshot,
         iterations,
