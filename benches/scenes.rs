@@ -119,7 +119,7 @@ fn photon_map(c: &mut Criterion) {
                                 .expect("gather points store photons")
                                 .albedo;
                             let normals = ShadingFrame::new(hit, *wo).gather_normals(hit, *wo);
-                            sum += density_estimate(&ctx, hit.p, normals, albedo);
+                            sum += density_estimate(&ctx, hit.p, normals, albedo, u32::MAX);
                         }
                         sum
                     })

@@ -175,7 +175,8 @@ pub struct SettingsArgs {
     /// ppm, sppm and vcm: radius reduction alpha in (0, 1].
     #[arg(long, value_parser = unit_interval, allow_negative_numbers = true)]
     pub alpha: Option<f32>,
-    /// Longest eye or light path, in bounces (0: only light seen directly; at most 1024).
+    /// Most bounces between camera and light, for every algorithm (0: only light seen
+    /// directly; Mitsuba's max_depth minus 1; at most 1024).
     #[arg(long)]
     pub max_depth: Option<u32>,
     /// ppm and sppm: direct light from photons or by light sampling [default: sampled, the

@@ -83,7 +83,8 @@ fn flux_query_hands_out_the_same_photons_in_the_same_order() {
         .map(|i| {
             let wi = (random_in_box(&mut rng, lo, hi) + Vec3::splat(1e-3)).normalize();
             let flux = Vec3::new(i as f32, rng.uniform(), 1.0);
-            Photon::new(random_in_box(&mut rng, lo, hi), wi, flux, i)
+            let key = Photon::key(i, i % 5);
+            Photon::new(random_in_box(&mut rng, lo, hi), wi, flux, key)
         })
         .collect();
     let mut grid = HashGrid::new();
@@ -113,7 +114,8 @@ fn flux_query_hands_out_the_same_photons_in_the_same_order() {
 /// photons: the same photons (within r, from the side of n), weighted by the same kernel; the
 /// grid sums per lane, so the two agree up to rounding. Small and large radii (the lane sum
 /// and the per-photon path), many and few buckets (disjoint rows and shared buckets), a huge
-/// flux on the far side of a query (it must not leak in as NaN); flat and shaded normals.
+/// flux on the far side of a query (it must not leak in as NaN); flat and shaded normals;
+/// every photon or only those of at most 1 or 3 bounces (the photons' keys hold bounces 0 to 4).
 #[test]
 fn kernel_flux_matches_a_brute_force_sum() {
     let mut rng = Rng::new(9, 0, 0);
@@ -122,7 +124,8 @@ fn kernel_flux_matches_a_brute_force_sum() {
         .map(|i| {
             let wi = (random_in_box(&mut rng, lo, hi) + Vec3::splat(1e-3)).normalize();
             let flux = Vec3::new(rng.uniform(), rng.uniform(), rng.uniform()) * 3.0;
-            Photon::new(random_in_box(&mut rng, lo, hi), wi, flux, i)
+            let key = Photon::key(i, i % 5);
+            Photon::new(random_in_box(&mut rng, lo, hi), wi, flux, key)
         })
         .collect();
     // An infinite flux away from the others, which must never turn a sum into NaN.
@@ -131,7 +134,7 @@ fn kernel_flux_matches_a_brute_force_sum() {
         far,
         Vec3::Z,
         Vec3::splat(f32::INFINITY),
-        30_000,
+        Photon::key(30_000, 0),
     ));
     let mut grid = HashGrid::new();
     let mut nonzero = 0;
@@ -162,11 +165,13 @@ fn kernel_flux_matches_a_brute_force_sum() {
             // The grid divides the cosines of the stored (unnormalised) direction, this sum
             // those of the normalised one: their rounding differs by a few ulps times the
             // cosines' condition 1 / |cos|, which `slack` adds up.
+            let max_bounce = [u32::MAX, 3, 1][i % 3];
             let (mut expected, mut slack) = (Vec3::ZERO, 0.0f32);
-            for ph in photons
-                .iter()
-                .filter(|ph| ph.position.distance_squared(p) <= r * r && ph.arrived_from(n))
-            {
+            for ph in photons.iter().filter(|ph| {
+                ph.position.distance_squared(p) <= r * r
+                    && ph.arrived_from(n)
+                    && ph.bounce() <= max_bounce
+            }) {
                 let wi = ph.wi();
                 let w = if normals.is_flat() {
                     1.0
@@ -181,7 +186,11 @@ fn kernel_flux_matches_a_brute_force_sum() {
                     slack += term.max_element() * 1e-6 * condition;
                 }
             }
-            let got = grid.kernel_flux(p, r, normals, &kernel);
+            let got = if max_bounce == u32::MAX {
+                grid.kernel_flux(p, r, normals, &kernel)
+            } else {
+                grid.kernel_flux_up_to(p, r, normals, &kernel, max_bounce)
+            };
             let tolerance = 1e-5 * expected.abs().max_element().max(1e-30) + slack;
             assert!(
                 (got - expected).abs().max_element() <= tolerance,

@@ -48,6 +48,8 @@ pub struct PilotPoint {
     pub length: f32,
     /// The point, in world space.
     pub position: Vec3,
+    /// Bounces before the point (the walk's depth there: 0 when the camera sees it directly).
+    pub depth: u32,
 }
 
 /// One pilot path per pixel (row-major) through the pixel's centre: the path follows specular
@@ -90,6 +92,7 @@ pub fn pilot_points(
                             *out = Some(PilotPoint {
                                 length: w.length,
                                 position: v.hit.p,
+                                depth: v.depth,
                             });
                             return Next::Stop;
                         }

@@ -66,11 +66,11 @@ pub const BYTES_PER_PIXEL: u64 =
     (2 * std::mem::size_of::<Vec3>() + 3 * std::mem::size_of::<u128>()) as u64;
 
 /// Bytes per photon slot of photon mapping: the append buffer's photon, the hash grid's
-/// sorted copy, its columns (position, flux and direction, 9 f32), the bucket of each photon
+/// sorted copy, its columns (position, flux, direction and bounce, 10 f32), the bucket of each photon
 /// (u32) and the bucket table (at most 2 u32 per photon: the bucket count is the photon count
 /// rounded up to a power of two).
 pub const BYTES_PER_PHOTON: u64 = (2 * std::mem::size_of::<Photon>()
-    + 9 * std::mem::size_of::<f32>()
+    + 10 * std::mem::size_of::<f32>()
     + std::mem::size_of::<u32>()
     + 2 * std::mem::size_of::<u32>()) as u64;
 

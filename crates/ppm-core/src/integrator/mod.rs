@@ -32,8 +32,8 @@ pub use memory::{
 };
 pub use path::PathTracer;
 pub use ppm::{
-    density_estimate, stores_photons, trace_light_path, GatherContext, PhotonCounters, PhotonSink,
-    PpmRenderer, RadiusSchedule, MAX_LIGHT_PATHS,
+    density_estimate, gather_limit, stores_photons, trace_light_path, GatherContext,
+    PhotonCounters, PhotonSink, PpmRenderer, RadiusSchedule, MAX_LIGHT_PATHS,
 };
 pub use settings::{
     Algorithm, DirectMode, LightStrategy, Radius, RenderSettings, Setting, DEFAULT_PHOTONS,

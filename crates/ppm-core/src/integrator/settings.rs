@@ -131,8 +131,9 @@ pub struct RenderSettings {
     pub algorithm: Algorithm,
     /// Seed of every random stream.
     pub seed: u64,
-    /// Longest eye or light path, in bounces (0: only emission seen directly); the
-    /// integrators clamp it to [`MAX_DEPTH`].
+    /// Most bounces between the camera and a light, whichever technique built the path (0:
+    /// only emission seen directly; Mitsuba's `max_depth` minus 1); the integrators clamp it
+    /// to [`MAX_DEPTH`].
     pub max_depth: u32,
     /// Russian roulette starts after this many bounces.
     pub rr_depth: u32,

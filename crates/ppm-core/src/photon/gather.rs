@@ -9,7 +9,8 @@
 //! Phi_p max(norm - slope d_p², 0)   if d_p² <= r² and wi_p . n > 0,   else 0,
 //! ```
 //!
-//! summed per lane and added up across the lanes at the end; at a point shaded with an
+//! summed per lane and added up across the lanes at the end, over the photons of at most
+//! `max_bounce` bounces ([`super::Photon::bounce`]); at a point shaded with an
 //! interpolated normal ns, the flux is also weighted by (wi_p . ns) / (wi_p . n) and counts
 //! only where wi_p . ns > 0 as well ([`super::GatherNormals`]). Candidates outside the sphere
 //! or from the other side are masked to zero (not multiplied by a zero weight, so a huge flux
@@ -30,6 +31,8 @@ pub(super) struct Columns {
     /// The incoming direction as the side test decodes it ([`super::Photon::wi_unfolded`]);
     /// padding 0.
     pub(super) wi: [Vec<f32>; 3],
+    /// The bounce of the photon's key ([`super::Photon::bounce`]), exact in f32; padding 0.
+    pub(super) bounce: Vec<f32>,
 }
 
 impl Columns {
@@ -41,6 +44,7 @@ impl Columns {
         let [x, y, z] = &self.position;
         let [r, g, b] = &self.flux;
         let [u, v, w] = &self.wi;
+        let bounce = &self.bounce;
         let all = [
             x.as_slice(),
             y.as_slice(),
@@ -51,6 +55,7 @@ impl Columns {
             u.as_slice(),
             v.as_slice(),
             w.as_slice(),
+            bounce.as_slice(),
         ];
         // Equal lengths let the compiler check a block read against one of them only.
         let len = all[0].len();
@@ -63,6 +68,7 @@ impl Columns {
         [&self.position, &self.flux, &self.wi]
             .iter()
             .flat_map(|c| c.iter())
+            .chain([&self.bounce])
             .map(|c| c.capacity() * std::mem::size_of::<f32>())
             .sum()
     }
@@ -70,8 +76,8 @@ impl Columns {
 
 /// The columns of a [`Columns`], all equally long.
 pub(super) struct ColumnsView<'a> {
-    /// Position x, y, z, flux r, g, b, direction x, y, z.
-    all: [&'a [f32]; 9],
+    /// Position x, y, z, flux r, g, b, direction x, y, z, bounce.
+    all: [&'a [f32]; 10],
 }
 
 impl<'a> ColumnsView<'a> {
@@ -85,6 +91,7 @@ impl<'a> ColumnsView<'a> {
             position: [lanes(0), lanes(1), lanes(2)],
             flux: [lanes(3), lanes(4), lanes(5)],
             wi: [lanes(6), lanes(7), lanes(8)],
+            bounce: lanes(9),
         }
     }
 }
@@ -95,6 +102,7 @@ pub(super) struct Block<'a> {
     pub(super) position: [&'a [f32; LANES]; 3],
     pub(super) flux: [&'a [f32; LANES]; 3],
     pub(super) wi: [&'a [f32; LANES]; 3],
+    pub(super) bounce: &'a [f32; LANES],
 }
 
 /// One density estimate's constants.
@@ -108,6 +116,8 @@ pub(super) struct FluxQuery {
     pub(super) r2: f32,
     pub(super) norm: f32,
     pub(super) slope: f32,
+    /// Photons of more bounces than this do not count (an integer, exact in f32).
+    pub(super) max_bounce: f32,
 }
 
 /// Per-lane running sums of the weighted flux, one per channel.
@@ -123,7 +133,8 @@ impl FluxSum {
     }
 
     /// Adds the first `valid` candidates of `block` (the others are masked off): per lane k,
-    /// `Phi_k max(norm - slope d_k², 0)` where `k < valid`, `d_k² <= r²` and `wi_k . n > 0`;
+    /// `Phi_k max(norm - slope d_k², 0)` where `k < valid`, `d_k² <= r²`, `wi_k . n > 0` and
+    /// `bounce_k <= max_bounce`;
     /// when `SHADED`, times `(wi_k . ns) / (wi_k . n)` and only where `wi_k . ns > 0` and that
     /// ratio is finite ([`super::GatherNormals::weight`], lane by lane).
     #[inline(always)]
@@ -148,8 +159,10 @@ impl FluxSum {
         let weight = (splat(q.norm) - splat(q.slope) * d2).max(F32x8::zero());
         let lane = load(&[0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0]);
         // Ordered comparisons: false for NaN.
-        let mut counts =
-            lane.lt(splat(valid.min(LANES) as f32)) & d2.le(splat(q.r2)) & side.gt(F32x8::zero());
+        let mut counts = lane.lt(splat(valid.min(LANES) as f32))
+            & d2.le(splat(q.r2))
+            & side.gt(F32x8::zero())
+            & load(block.bounce).le(splat(q.max_bounce));
         let mut weight = weight;
         if SHADED {
             let shading =
@@ -178,21 +191,25 @@ mod tests {
 
     /// Every lane of the block sum equals the per-photon formula evaluated in scalar code, bit
     /// for bit, on blocks with candidates inside, outside, on the sphere, from behind, huge fluxes
-    /// outside and padding; flat, and shaded with the weight of `GatherNormals`.
+    /// outside, padding, and of too many bounces (from 0 to 7, some rounds counting all, some
+    /// none, some up to 3); flat, and shaded with the weight of `GatherNormals`.
     #[test]
     #[allow(clippy::needless_range_loop)] // lanes index several arrays at once
     fn block_sums_match_the_per_photon_formula() {
         let mut rng = Rng::new(11, 0, 0);
-        let q = FluxQuery {
+        let mut q = FluxQuery {
             p: Vec3::new(0.3, -1.2, 2.0),
             n: Vec3::new(0.0, 0.6, 0.8),
             ns: Vec3::new(0.48, 0.6, 0.64),
             r2: 0.04,
             norm: 2.0 / (std::f32::consts::PI * 0.04),
             slope: 2.0 / (std::f32::consts::PI * 0.04) / 0.04,
+            max_bounce: 0.0,
         };
-        let mut counted = 0;
+        let (mut counted, mut too_deep) = (0, 0);
+        let bounces = [0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0];
         for round in 0..2000 {
+            q.max_bounce = [63.0, 3.0, 0.0, 7.0, 3.0][round % 5];
             let mut c = [[[0.0f32; LANES]; 3]; 3];
             for k in 0..LANES {
                 let offset = (rng.uniform2().extend(rng.uniform()) * 2.0 - 1.0) * 0.3;
@@ -217,6 +234,7 @@ mod tests {
                 position: c[0].each_ref(),
                 flux: c[1].each_ref(),
                 wi: c[2].each_ref(),
+                bounce: &bounces,
             };
             let valid = if round % 3 == 0 {
                 1 + round % LANES
@@ -242,6 +260,8 @@ mod tests {
                 let d2 = x.distance_squared(q.p);
                 let w = normals.weight(wi);
                 let counts = k < valid && d2 <= q.r2 && w > 0.0;
+                too_deep += (counts && bounces[k] > q.max_bounce) as usize;
+                let counts = counts && bounces[k] <= q.max_bounce;
                 let expected = if counts {
                     counted += 1;
                     let kernel = (q.norm - q.slope * d2).max(0.0);
@@ -254,6 +274,6 @@ mod tests {
                 assert_eq!(bits(got), bits(expected), "round {round} lane {k}");
             }
         }
-        assert!(counted > 1000, "{counted}");
+        assert!(counted > 1000 && too_deep > 300, "{counted} {too_deep}");
     }
 }

@@ -21,4 +21,4 @@ pub use buffer::{PhotonBuffer, PhotonWriter, BATCH};
 pub use grid::HashGrid;
 pub use kernel::{epanechnikov, Kernel};
 pub use normals::GatherNormals;
-pub use record::{FluxRecord, Photon};
+pub use record::{FluxRecord, Photon, BOUNCE_BITS, MAX_KEY_BOUNCE};

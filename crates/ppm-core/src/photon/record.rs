@@ -36,8 +36,17 @@ pub struct Photon {
     /// Flux Φ carried by the photon (RGB, watts).
     pub flux: Vec3,
     /// Index of the light path that deposited the photon (several photons may share one).
+    /// The photon pass of `ppm` stores its key here, the path index and the bounce
+    /// ([`Photon::key`]); vcm stores the light vertex's index.
     pub path: u32,
 }
+
+/// Bits at the bottom of a photon-pass key ([`Photon::key`]) that hold the bounce; the light
+/// path's index takes the other 26.
+pub const BOUNCE_BITS: u32 = 6;
+
+/// The deepest bounce a key tells apart: a photon of more bounces is recorded at this one.
+pub const MAX_KEY_BOUNCE: u32 = (1 << BOUNCE_BITS) - 1;
 
 const _: () = assert!(std::mem::size_of::<Photon>() == 32);
 const _: () = assert!(std::mem::align_of::<Photon>() == 32);
@@ -83,6 +92,21 @@ impl Photon {
     #[inline]
     pub(crate) fn wi_unfolded(&self) -> Vec3 {
         oct_unfold(self.wi)
+    }
+
+    /// The key of the photon that light path `path` (below 2^26) left at its hit number
+    /// `bounce + 1`: `path << BOUNCE_BITS | min(bounce, MAX_KEY_BOUNCE)`. It orders a photon
+    /// map by (path, bounce) whatever the thread schedule, and lets a gather count only the
+    /// photons of few enough bounces ([`Photon::bounce`]).
+    #[inline]
+    pub fn key(path: u32, bounce: u32) -> u32 {
+        (path << BOUNCE_BITS) | bounce.min(MAX_KEY_BOUNCE)
+    }
+
+    /// The bounce held in a key's low bits ([`Photon::key`]); exact up to [`MAX_KEY_BOUNCE`].
+    #[inline]
+    pub fn bounce(&self) -> u32 {
+        self.path & MAX_KEY_BOUNCE
     }
 
     /// A total order key: the path index first, then every other bit of the record.
@@ -136,13 +160,6 @@ impl FluxRecord {
     #[inline]
     pub fn arrived_from(&self, n: Vec3) -> bool {
         oct_unfold(self.wi).dot(n) > 0.0
-    }
-
-    /// The incoming direction as stored, decoded but not normalised, as
-    /// [`Photon::wi_unfolded`].
-    #[inline]
-    pub(crate) fn wi_unfolded(&self) -> Vec3 {
-        oct_unfold(self.wi)
     }
 }
 

@@ -36,15 +36,37 @@ pub struct GatherContext<'a> {
 /// normal ns each photon is also weighted by (wi_p . ns) / (wi_p . n): the photons' density
 /// per unit of geometric area is the irradiance with the geometric cosine, while the
 /// reflected radiance takes the shading one (w = 1 when flat; [`crate::photon::GatherNormals`]).
+///
+/// Only photons of at most `max_bounce` bounces count. A photon left at its light path's hit
+/// number b + 1 (bounce b) and gathered at camera vertex d + 1 (walk depth d: d bounces
+/// before it) closes a path of b + 1 + d + 1 edges, that is b + d + 1 bounces, which
+/// `max_depth` bounds as it bounds the path tracer's paths: b <= max_depth - 1 - d
+/// ([`gather_limit`]). At the first vertex (d = 0) every photon qualifies, since the photon
+/// pass stops at bounce max_depth - 1; behind a specular chain the limit removes the photons
+/// that would make the path too long.
 #[inline]
 pub fn density_estimate(
     ctx: &GatherContext<'_>,
     p: Vec3,
     normals: GatherNormals,
     albedo: Vec3,
+    max_bounce: u32,
 ) -> Vec3 {
-    let sum = ctx.grid.kernel_flux(p, ctx.radius, normals, &ctx.kernel);
+    let sum = ctx
+        .grid
+        .kernel_flux_up_to(p, ctx.radius, normals, &ctx.kernel, max_bounce);
     sum * (albedo * (std::f32::consts::FRAC_1_PI * ctx.inv_paths))
+}
+
+/// The most bounces a photon gathered at walk depth `depth` (`depth < max_depth`) may have
+/// so that the whole path has at most `max_depth` bounces (see [`density_estimate`]).
+#[inline]
+pub fn gather_limit(max_depth: u32, depth: u32) -> u32 {
+    debug_assert!(
+        depth < max_depth,
+        "no gather at depth {depth} of {max_depth}"
+    );
+    max_depth - 1 - depth
 }
 
 /// The eye path through pixel `pixel` of iteration `iteration`; returns its radiance estimate.
@@ -79,7 +101,14 @@ pub fn trace_eye_path(
     walk(scene, params, ray, &mut rng, counters, |w, v, rng| {
         if let Some(diffuse) = v.bsdf.diffuse_part() {
             let normals = v.sf.gather_normals(v.hit, v.wo);
-            w.add(density_estimate(ctx, v.hit.p, normals, diffuse.albedo));
+            let max_bounce = gather_limit(settings.max_depth, v.depth);
+            w.add(density_estimate(
+                ctx,
+                v.hit.p,
+                normals,
+                diffuse.albedo,
+                max_bounce,
+            ));
             if sampled_direct {
                 w.add_direct(scene, v, &Bsdf::Diffuse(diffuse), rng, false);
             }

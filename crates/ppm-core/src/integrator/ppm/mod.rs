@@ -24,7 +24,7 @@ mod eye_pass;
 mod photon_pass;
 mod radius;
 
-pub use eye_pass::{density_estimate, GatherContext};
+pub use eye_pass::{density_estimate, gather_limit, GatherContext};
 pub use photon_pass::{
     stores_photons, trace_light_path, PhotonCounters, PhotonSink, MAX_LIGHT_PATHS,
 };
@@ -385,8 +385,12 @@ impl PpmRenderer {
                     .map_or(scale, |p| p.initial[pixel] * scale);
                 let mut count = 0u32;
                 if let Some(point) = points[pixel] {
+                    // The photons the estimate there counts (see `density_estimate`).
+                    let max_bounce = gather_limit(s.max_depth, point.depth);
                     self.grid
-                        .for_each_in_radius(point.position, radius, |_, _| count += 1);
+                        .for_each_in_radius(point.position, radius, |photon, _| {
+                            count += (photon.bounce() <= max_bounce) as u32;
+                        });
                 }
                 *out = Vec3::splat(count as f32);
             });

@@ -5,7 +5,7 @@ use crate::geometry::Ray;
 use crate::integrator::shading::ShadingFrame;
 use crate::integrator::{DirectMode, RenderSettings};
 use crate::light::Light;
-use crate::photon::{Photon, PhotonWriter};
+use crate::photon::{Photon, PhotonWriter, BOUNCE_BITS};
 use crate::sampling::Rng;
 use crate::scene::Scene;
 use glam::Vec3;
@@ -13,11 +13,8 @@ use glam::Vec3;
 /// Random streams of light paths are kept apart from the eye paths' by this salt.
 pub const PHOTON_STREAM: u64 = 0x7068_6f74_6f6e_7321;
 
-/// Bits of the ordering key that hold the bounce; the light-path index takes the rest, so a
-/// photon map can be ordered by (path, bounce) whatever the thread schedule.
-pub const BOUNCE_BITS: u32 = 6;
-
-/// Most light paths one iteration can trace (the ordering key must fit in 32 bits).
+/// Most light paths one iteration can trace (the ordering key, [`Photon::key`], must fit in
+/// 32 bits).
 pub const MAX_LIGHT_PATHS: u32 = 1 << (32 - BOUNCE_BITS);
 
 /// Rays traced by one worker.
@@ -32,14 +29,16 @@ pub struct PhotonCounters {
 /// the light-path walk is written once and dispatched statically.
 pub trait PhotonSink {
     /// A photon at `position` that arrived from `wi` (unit, pointing away from the surface)
-    /// carrying `flux`; `key` orders photons by (light path, bounce).
-    fn deposit(&mut self, position: Vec3, wi: Vec3, flux: Vec3, key: u32);
+    /// carrying `flux`, left by light path `path` at its hit number `bounce + 1` (bounce 0: the
+    /// first surface the light reached). The bounce bounds the camera vertices that may
+    /// gather it: no path may have more than max_depth bounces (see [`super::density_estimate`]).
+    fn deposit(&mut self, position: Vec3, wi: Vec3, flux: Vec3, path: u32, bounce: u32);
 }
 
 impl PhotonSink for PhotonWriter<'_> {
     #[inline]
-    fn deposit(&mut self, position: Vec3, wi: Vec3, flux: Vec3, key: u32) {
-        self.push(Photon::new(position, wi, flux, key));
+    fn deposit(&mut self, position: Vec3, wi: Vec3, flux: Vec3, path: u32, bounce: u32) {
+        self.push(Photon::new(position, wi, flux, Photon::key(path, bounce)));
     }
 }
 
@@ -98,8 +97,7 @@ pub fn trace_light_path<S: PhotonSink>(
         // The photon arrived along ray.dir: its incoming direction points back along the ray.
         let wo = -ray.dir;
         if bounce >= first_stored_bounce && stores_photons(bsdf) {
-            let key = (path << BOUNCE_BITS) | bounce.min((1 << BOUNCE_BITS) - 1);
-            out.deposit(hit.p, wo, flux, key);
+            out.deposit(hit.p, wo, flux, path, bounce);
             counters.photons += 1;
         }
         let sf = ShadingFrame::new(&hit, wo);

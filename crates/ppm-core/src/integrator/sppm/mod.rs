@@ -29,7 +29,7 @@ use super::footprint::pilot_radii;
 use super::task_order::interleaved;
 use super::{
     image_bytes, trace_light_path, IterationStats, MemoryEstimate, MemoryPart, PassTimes,
-    PhotonCounters, Radius, RenderSettings, Snapshot, Stopwatch, MAX_LIGHT_PATHS,
+    PhotonCounters, Radius, RenderSettings, Snapshot, Stopwatch, MAX_DEPTH, MAX_LIGHT_PATHS,
 };
 use crate::film::{Film, Image};
 use crate::pixel_bounds::PixelBounds;
@@ -77,7 +77,7 @@ impl SppmRenderer {
     /// A fresh render; every pixel starts at radius `settings.radius` (`Radius::World`), or
     /// at a few pixel footprints at its first diffuse visible point (`Radius::Auto`, set by
     /// the first iteration's pilot pass: [`pilot_radii`], shared with `ppm`). The number of light
-    /// paths per iteration is capped at [`MAX_LIGHT_PATHS`].
+    /// paths per iteration is capped at [`MAX_LIGHT_PATHS`], `max_depth` at [`MAX_DEPTH`].
     pub fn new(scene: &Scene, settings: RenderSettings) -> Self {
         let (w, h) = (scene.camera.width, scene.camera.height);
         Self::with_bounds(settings, PixelBounds::full(w, h))
@@ -88,6 +88,7 @@ impl SppmRenderer {
     pub fn with_bounds(settings: RenderSettings, bounds: PixelBounds) -> Self {
         let mut settings = settings;
         settings.photons = settings.photons.clamp(1, MAX_LIGHT_PATHS);
+        settings.max_depth = settings.max_depth.min(MAX_DEPTH);
         let (w, h) = (bounds.width(), bounds.height());
         let pixels = bounds.len();
         let (radius, radii_pending) = match settings.radius {

@@ -4,7 +4,7 @@
 use crate::bsdf::Bsdf;
 use crate::integrator::camera_path::start_pixel_path;
 use crate::integrator::camera_walk::{walk, Next, RayCounters, WalkParams};
-use crate::integrator::{DirectMode, LightStrategy, RenderSettings};
+use crate::integrator::{gather_limit, DirectMode, LightStrategy, RenderSettings};
 use crate::photon::GatherNormals;
 use crate::scene::Scene;
 use glam::Vec3;
@@ -28,6 +28,10 @@ pub struct SplatPoint {
     pub weight: Vec3,
     /// The pixel's squared gather radius R_i^2 this iteration; 0 with no visible point.
     pub r2: f32,
+    /// Photons of more bounces do not count here: the point is at walk depth d, and a
+    /// photon of bounce b closes a path of b + d + 1 bounces, at most max_depth
+    /// ([`crate::integrator::gather_limit`]).
+    pub max_bounce: u16,
     /// False when the path escaped, was absorbed or ended on a purely specular chain.
     pub found: bool,
 }
@@ -99,6 +103,8 @@ pub fn trace_camera_path(
             normals: v.sf.gather_normals(v.hit, v.wo),
             weight: w.path.throughput * diffuse.albedo * std::f32::consts::FRAC_1_PI,
             r2: 0.0,
+            max_bounce: u16::try_from(gather_limit(settings.max_depth, v.depth))
+                .unwrap_or(u16::MAX),
             found: true,
         };
         Next::Stop

@@ -6,8 +6,8 @@
 //! query visits the buckets of the (usually 2 x 2 x 2) cells its sphere overlaps. Cells that
 //! follow each other along x take consecutive buckets, so those 8 cells are 4 runs of memory.
 //!
-//! The photons are also kept as columns in the same order (position, flux and incoming
-//! direction, one array per coordinate): a query tests about five candidates for every photon
+//! The photons are also kept as columns in the same order (position, flux, incoming
+//! direction, one array per coordinate, and the bounce of the photon's key): a query tests about five candidates for every photon
 //! inside its sphere (the cube of 2 x 2 cells on a surface has 16 r² of area, the disc
 //! pi r²), so it works on [`LANES`] candidates at once (an 8-lane `F32x8` per coordinate).
 //! [`HashGrid::for_each_in_radius`] computes their distances into a bit mask and calls back
@@ -48,8 +48,8 @@ pub struct HashGrid {
     cell_size: f32,
     /// Photons grouped by bucket; within a bucket ordered by `Photon::order_key`.
     photons: Vec<Photon>,
-    /// `photons` as columns (position, flux, incoming direction), for the scan of the
-    /// candidates and the density estimate.
+    /// `photons` as columns (position, flux, incoming direction, bounce), for the scan of
+    /// the candidates and the density estimate.
     columns: Columns,
     /// Bucket `b` holds `photons[start[b]..start[b + 1]]`; `buckets + 1` entries.
     start: Vec<u32>,
@@ -152,8 +152,9 @@ impl HashGrid {
             position: [x, y, z],
             flux: [r, g, b],
             wi: [u, v, w],
+            bounce,
         } = &mut self.columns;
-        let mut columns = [x, y, z, r, g, b, u, v, w];
+        let mut columns = [x, y, z, r, g, b, u, v, w, bounce];
         for (k, column) in columns.iter_mut().enumerate() {
             // Only growth writes here (the vectors are reused); the pass overwrites 0..n.
             column.resize(n + LANES, 0.0);
@@ -173,6 +174,7 @@ impl HashGrid {
                 for (k, value) in values.iter().flat_map(|v| v.to_array()).enumerate() {
                     out[k][i] = value;
                 }
+                out[9][i] = photon.bounce() as f32;
             }
         });
     }

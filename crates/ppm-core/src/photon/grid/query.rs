@@ -4,7 +4,7 @@
 use super::distances::block_distances;
 use super::HashGrid;
 use crate::photon::gather::{ColumnsView, FluxQuery, FluxSum};
-use crate::photon::{FluxRecord, GatherNormals, Kernel, Photon};
+use crate::photon::{FluxRecord, GatherNormals, Kernel, Photon, MAX_KEY_BOUNCE};
 use crate::simd::LANES;
 use glam::{IVec3, Vec3};
 use std::ops::Range;
@@ -50,14 +50,30 @@ impl HashGrid {
     /// [`HashGrid::for_each_flux_in_radius`] up to rounding.
     #[inline]
     pub fn kernel_flux(&self, p: Vec3, r: f32, normals: GatherNormals, kernel: &Kernel) -> Vec3 {
+        self.kernel_flux_up_to(p, r, normals, kernel, u32::MAX)
+    }
+
+    /// [`HashGrid::kernel_flux`] over the photons of at most `max_bounce` bounces
+    /// ([`Photon::bounce`]; exact up to [`MAX_KEY_BOUNCE`], above which every photon counts).
+    #[inline]
+    pub fn kernel_flux_up_to(
+        &self,
+        p: Vec3,
+        r: f32,
+        normals: GatherNormals,
+        kernel: &Kernel,
+        max_bounce: u32,
+    ) -> Vec3 {
         let Some((lo, hi, cells)) = self.cell_range(p, r) else {
             return Vec3::ZERO;
         };
+        let max_bounce = max_bounce.min(MAX_KEY_BOUNCE);
         if cells > SMALL_QUERY as i64 {
             let mut sum = Vec3::ZERO;
-            self.for_each_flux_in_radius(p, r, |photon, d2| {
+            self.query(p, r, |i, d2| {
+                let photon = &self.photons[i];
                 let w = normals.weight(photon.wi_unfolded());
-                if w > 0.0 {
+                if w > 0.0 && photon.bounce() <= max_bounce {
                     sum += photon.flux * (kernel.weight(d2) * w);
                 }
             });
@@ -71,6 +87,7 @@ impl HashGrid {
             r2: r * r,
             norm,
             slope,
+            max_bounce: max_bounce as f32,
         };
         // Flat shading (every quad and sphere, meshes without vertex normals) keeps the
         // loop without the ratio.
