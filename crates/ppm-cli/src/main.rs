@@ -23,6 +23,7 @@ mod progress;
 mod provenance;
 mod render;
 mod report;
+mod rescue;
 mod resume;
 mod scene_search;
 mod setup;

@@ -395,7 +395,7 @@ pub fn run(args: &RenderArgs, interrupt: &Interrupt) -> Result<Outcome> {
         );
         return Ok(Outcome::Interrupted);
     }
-    state_file::write_outputs(&paths, &image, &snapshot, &provenance_after(&totals))?;
+    crate::rescue::write_outputs(&paths, &image, &snapshot, &provenance_after(&totals))?;
     info!("wrote {} and {}", paths.png.display(), paths.exr.display());
     for (aov, aov_image) in &aovs {
         let path = paths.aov(aov.name());

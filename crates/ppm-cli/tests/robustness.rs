@@ -175,12 +175,15 @@ fn a_signal_inherited_as_ignored_does_not_stop_the_render() {
 }
 
 /// A file-size limit (`ulimit -f`) makes a write fail like a full disk, with a message and
-/// status 1, instead of killing ppm with SIGXFSZ.
+/// status 1, instead of killing ppm with SIGXFSZ. The limit holds in the rescue folder too,
+/// so the error says the render is lost, and no partial file is left in either folder.
 #[cfg(unix)]
 #[test]
 fn a_file_size_limit_is_an_error_not_a_kill() {
     let dir = tempfile::tempdir().unwrap();
     tiny_scene(dir.path());
+    let rescue = dir.path().join("rescue");
+    std::fs::create_dir(&rescue).unwrap();
     let out = std::process::Command::new("sh")
         .current_dir(dir.path())
         .args([
@@ -188,19 +191,24 @@ fn a_file_size_limit_is_an_error_not_a_kill() {
             "ulimit -f 1; exec \"$0\" tiny.yml -n 1",
             env!("CARGO_BIN_EXE_ppm"),
         ])
+        .env("PPM_RESCUE_DIR", &rescue)
+        .env("TMPDIR", &rescue)
+        .env("HOME", &rescue)
         .output()
         .unwrap();
     let err = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(1), "{err}");
     assert!(
-        err.contains("was replaced") || err.contains("too large"),
+        (err.contains("was replaced") || err.contains("too large"))
+            && err.contains("the render is lost"),
         "{err}"
     );
     assert_eq!(
         file_names(dir.path()),
-        ["tiny.yml"],
+        ["rescue", "tiny.yml"],
         "no partial or temporary file"
     );
+    assert!(file_names(&rescue).is_empty(), "{:?}", file_names(&rescue));
 }
 
 /// One stop delivered twice at once, as coreutils `timeout` does (the child, then its
@@ -711,7 +719,9 @@ fn fill_disk(dir: &Path, slack: u64) -> std::path::PathBuf {
 
 /// A full disk (a real one: a 1 MiB tmpfs; skipped where mounting is not permitted).
 /// A final write with room for the new PNG but not the new EXR replaces neither, and says
-/// so; a failed checkpoint is a warning, the render goes on and its final write succeeds.
+/// so; the render is then written to the rescue folder ($TMPDIR here), from which it resumes,
+/// or said to be lost when no rescue folder takes it; a failed checkpoint is a warning, the
+/// render goes on and its final write succeeds.
 #[cfg(target_os = "linux")]
 #[test]
 fn a_full_disk_never_leaves_a_mismatched_pair_or_stops_the_render() {
@@ -738,7 +748,26 @@ fn a_full_disk_never_leaves_a_mismatched_pair_or_stops_the_render() {
     );
     // Room for the new PNG (about the old one's size) but not the EXR.
     let filler = fill_disk(&disk, old_png.len() as u64 + 8192);
-    let err = assert_fails(&render(&["--seed", "2", "-o", "disk/shot"]), 1);
+    let rescue = dir.path().join("rescue");
+    std::fs::create_dir(&rescue).unwrap();
+    let render_with = |tmpdir: &Path, home: &Path| {
+        let mut args = vec!["tiny.yml", "-n", "1", "--seed", "2", "-o", "disk/shot"];
+        args.extend_from_slice(&size);
+        ppm(dir.path())
+            .args(&args)
+            .env("TMPDIR", tmpdir)
+            .env("HOME", home)
+            .env_remove("PPM_RESCUE_DIR")
+            .output()
+            .unwrap()
+    };
+    let nowhere = dir.path().join("no such folder");
+    let err = assert_fails(&render_with(&nowhere, &nowhere), 1);
+    assert!(
+        err.contains("neither") && err.contains("the render is lost"),
+        "{err}"
+    );
+    let err = assert_fails(&render_with(&rescue, &nowhere), 1);
     assert!(
         err.contains("neither") && err.contains("shot.exr") && err.contains("shot.png"),
         "{err}"
@@ -747,6 +776,36 @@ fn a_full_disk_never_leaves_a_mismatched_pair_or_stops_the_render() {
     assert_eq!(std::fs::read(disk.join("shot.exr")).unwrap(), old_exr);
     assert_eq!(file_names(&disk), ["filler", "shot.exr", "shot.png"]);
     std::fs::remove_file(&filler).unwrap();
+    // The rescued pair is the render that could not be written: it resumes, and the EXR
+    // the error names is the one on disk.
+    let rescued = file_names(&rescue);
+    assert_eq!(rescued.len(), 2, "{rescued:?}");
+    assert!(
+        rescued[0].starts_with("shot.rescued-") && rescued[0].ends_with(".exr"),
+        "{rescued:?}"
+    );
+    assert!(
+        err.contains("the render is safe in") && err.contains(&rescued[0]),
+        "{err}"
+    );
+    let rescued_exr = rescue.join(&rescued[0]);
+    let resumed = render(&[
+        "--seed",
+        "2",
+        "--resume",
+        rescued_exr.to_str().unwrap(),
+        "-o",
+        "resumed",
+    ]);
+    assert_ok(&resumed);
+    let mut whole = vec!["tiny.yml", "-n", "2", "--seed", "2", "-o", "whole"];
+    whole.extend_from_slice(&size);
+    assert_ok(&run(dir.path(), &whole));
+    assert_eq!(
+        read_exr(&dir.path().join("resumed.exr")),
+        read_exr(&dir.path().join("whole.exr")),
+        "the rescued render resumes as if written where asked"
+    );
 
     // Checkpoints: fill the disk after the first one, let some fail, free it, stop.
     let mut args = vec!["tiny.yml", "--time-limit", "1000", "--checkpoint", "0.01"];
