@@ -64,8 +64,9 @@ impl Interrupt {
     }
 
     /// Installs the process's handler for the [`STOP_SIGNALS`] it does not inherit as
-    /// ignored (once per process), and ignores SIGXFSZ. The handler runs on a thread of its
-    /// own (signal-hook's), so it may print and exit.
+    /// ignored (once per process), and ignores SIGXFSZ. signal-hook's async-signal-safe
+    /// handler only wakes the thread started here (`ppm-signals`), which reacts in ordinary
+    /// code, so it may print and exit.
     pub fn install_handler(&self) -> Result<()> {
         let watched: Vec<i32> = STOP_SIGNALS
             .into_iter()
