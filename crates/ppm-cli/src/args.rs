@@ -176,8 +176,8 @@ pub struct SettingsArgs {
     #[arg(long, value_parser = unit_interval, allow_negative_numbers = true)]
     pub alpha: Option<f32>,
     /// Most bounces between camera and light, for every algorithm (0: only light seen
-    /// directly; Mitsuba's max_depth minus 1; at most 1024).
-    #[arg(long)]
+    /// directly; Mitsuba's max_depth minus 1; above 1024 used as 1024).
+    #[arg(long, value_parser = depth, allow_negative_numbers = true)]
     pub max_depth: Option<u32>,
     /// ppm and sppm: direct light from photons or by light sampling [default: sampled, the
     /// lower equal-time error measured on the Cornell box scenes]
@@ -354,6 +354,19 @@ fn gather_radius(s: &str) -> Result<Radius, String> {
 }
 
 /// A value in (0, 1].
+/// A number of bounces: any whole number from 0 on; one above what a `u32` holds is kept as
+/// `u32::MAX`, which the render lowers to the supported maximum with a warning.
+fn depth(s: &str) -> Result<u32, String> {
+    use ppm_core::integrator::MAX_DEPTH;
+    match s.trim().parse::<u128>() {
+        Ok(n) => Ok(n.min(u32::MAX.into()) as u32),
+        Err(_) => Err(format!(
+            "{s} is not a number of bounces: expected a whole number >= 0 (above {MAX_DEPTH} \
+             used as {MAX_DEPTH})"
+        )),
+    }
+}
+
 fn unit_interval(s: &str) -> Result<f32, String> {
     let v = parse_f64(s)? as f32;
     if v > 0.0 && v <= 1.0 {

@@ -435,6 +435,39 @@ fn max_depth_zero_is_accepted_alike_by_the_cli_and_the_scene_file() {
     }
 }
 
+/// A `max_depth` above the supported 1024, even one beyond 32 bits, is used as 1024 with a
+/// warning, on the command line and in the scene file alike (as documented), and renders the
+/// image of 1024; a negative one is refused with the expected range.
+#[test]
+fn a_huge_max_depth_is_used_as_the_maximum_alike_by_the_cli_and_the_scene_file() {
+    let dir = tempfile::tempdir().unwrap();
+    tiny_scene(dir.path());
+    let huge = TINY_SCENE.replace("max_depth: 6", "max_depth: 1e10");
+    std::fs::write(dir.path().join("huge.yml"), huge).unwrap();
+    let base = ["-a", "pt", "-n", "1", "--width", "8", "--height", "8"];
+    let render = |args: &[&str]| run(dir.path(), &[args, &base[..]].concat());
+    let max = render(&["tiny.yml", "--max-depth", "1024", "-o", "max"]);
+    assert_ok(&max);
+    for (args, name) in [
+        (
+            &["tiny.yml", "--max-depth", "99999999999", "-o", "cli"][..],
+            "cli",
+        ),
+        (&["huge.yml", "-o", "yaml"][..], "yaml"),
+    ] {
+        let out = render(args);
+        assert_ok(&out);
+        assert!(stderr(&out).contains("using 1024") || stderr(&out).contains("supported 1024"));
+        assert_eq!(
+            read_exr(&dir.path().join(format!("{name}.exr"))),
+            read_exr(&dir.path().join("max.exr")),
+            "{name}"
+        );
+    }
+    let err = assert_fails(&render(&["tiny.yml", "--max-depth", "-3"]), 2);
+    assert!(err.contains("--max-depth") && err.contains(">= 0"), "{err}");
+}
+
 /// A scene file saved with a UTF-8 byte order mark loads.
 #[test]
 fn a_utf8_byte_order_mark_is_accepted() {

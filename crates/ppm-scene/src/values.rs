@@ -6,6 +6,7 @@
 
 use glam::{DVec3, Vec3};
 use ppm_core::camera::MAX_RESOLUTION;
+use ppm_core::integrator::MAX_DEPTH;
 use serde::de::{self, Deserialize, Deserializer, IgnoredAny, SeqAccess, Visitor};
 use std::fmt;
 use std::marker::PhantomData;
@@ -287,8 +288,16 @@ impl<'de> Deserialize<'de> for Count {
 }
 
 impl<'de> Deserialize<'de> for Depth {
+    /// Any whole number of bounces from 0 on: one above what a `u32` holds is kept as
+    /// `u32::MAX`, which the scene's build then lowers to the supported maximum with a
+    /// warning, as it does any depth above that maximum.
     fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        whole_u32(d, 0).map(Depth)
+        let n = d.deserialize_any(WholeVisitor {
+            what: format!("a whole number of bounces >= 0 (above {MAX_DEPTH} used as {MAX_DEPTH})"),
+            min: 0,
+            max: i64::MAX,
+        })?;
+        Ok(Depth(n.min(u32::MAX.into()) as u32))
     }
 }
 
