@@ -14,25 +14,37 @@ pub(super) struct CleanStats {
     pub flipped: usize,
 }
 
+/// "1 thing", "2 things".
+fn count(n: usize, thing: &str) -> String {
+    if n == 1 {
+        format!("1 {thing}")
+    } else {
+        format!("{n} {thing}s")
+    }
+}
+
 impl CleanStats {
     pub fn warn(&self, path: &Path, warnings: &mut Vec<String>) {
         let file = path.display();
         if self.degenerate > 0 {
             warnings.push(format!(
-                "{file}: skipped {} degenerate triangles (repeated vertices, zero area or non-finite positions)",
-                self.degenerate
+                "{file}: skipped {} (repeated vertices, zero area or non-finite positions)",
+                count(self.degenerate, "degenerate triangle")
             ));
         }
         if self.bad_normals > 0 {
             warnings.push(format!(
-                "{file}: replaced {} unusable vertex normals (NaN, infinite or zero) by the area-weighted normal of the adjacent triangles",
-                self.bad_normals
+                "{file}: replaced {} (NaN, infinite or zero) by the area-weighted normal of the adjacent triangles",
+                count(self.bad_normals, "unusable vertex normal")
             ));
         }
         if self.flipped > 0 {
             warnings.push(format!(
-                "{file}: {} triangles have vertex normals facing away from their counter-clockwise winding; the winding decides which side emits and which side is inside glass",
-                self.flipped
+                "{file}: {} vertex normals facing away from their counter-clockwise winding; the winding decides which side emits and which side is inside glass",
+                match self.flipped {
+                    1 => "1 triangle has".to_string(),
+                    n => format!("{n} triangles have"),
+                }
             ));
         }
     }
