@@ -5,7 +5,9 @@
 //! lamp looks speckled, while photons leave it regardless; the integrators then disagree
 //! (7-8% on a Cornell box with its lamp moved into the ceiling's plane). Found by probing:
 //! short rays along each emissive triangle's normal through a few of its interior points, from
-//! either side of its plane; one that meets another primitive at that plane names the lamp.
+//! either side of its plane; one that meets a primitive of another material at that plane
+//! names the lamp. (The lamp's own other triangles do not count: a tiny lamp far from the
+//! camera has vertices a few ulps apart, and a probe then meets its neighbouring triangle.)
 
 use ppm_core::geometry::Ray;
 use ppm_core::light::Light;
@@ -24,8 +26,8 @@ const POINTS: [(f32, f32); 5] = [
     (0.45, 0.45),
 ];
 
-/// The material indices of the emissive triangles that another primitive touches across
-/// their plane, within 1e-5 of their size (each index once, in order).
+/// The material indices of the emissive triangles that a primitive of another material
+/// touches across their plane, within 1e-5 of their size (each index once, in order).
 pub fn lights_in_other_surfaces(scene: &Scene) -> Vec<u32> {
     let triangles: Vec<_> = scene
         .lights
@@ -38,6 +40,7 @@ pub fn lights_in_other_surfaces(scene: &Scene) -> Vec<u32> {
     let step = triangles.len().div_ceil(MAX_PROBED).max(1);
     let mut found = Vec::new();
     for light in triangles.iter().step_by(step) {
+        let material = scene.geometry.triangle(light.prim).1;
         let size = light.area.sqrt();
         let [v0, v1, v2] = light.tri.v;
         let n = light.normal;
@@ -53,15 +56,12 @@ pub fn lights_in_other_surfaces(scene: &Scene) -> Vec<u32> {
                     ..Ray::new(p + side * delta, -side)
                 };
                 scene.intersect(&ray).is_some_and(|hit| {
-                    hit.prim != light.prim && (hit.t - delta).abs() < 0.5 * delta
+                    hit.material != material && (hit.t - delta).abs() < 0.5 * delta
                 })
             })
         });
-        if touched {
-            let material = scene.geometry.triangle(light.prim).1;
-            if !found.contains(&material) {
-                found.push(material);
-            }
+        if touched && !found.contains(&material) {
+            found.push(material);
         }
     }
     found
@@ -119,5 +119,32 @@ mod tests {
                 "lamp at {y}"
             );
         }
+    }
+
+    /// A lamp 1e-4 wide, 500 units from the camera (its vertices a few ulps apart in the
+    /// scene's camera-relative coordinates), alone: its probes meet its own other triangle,
+    /// which is not another surface.
+    #[test]
+    fn a_tiny_distant_lamp_alone_is_in_no_other_surface() {
+        let camera = Camera::new(
+            Vec3::new(0.0, 100.0, 400.0),
+            Vec3::ZERO,
+            Vec3::Y,
+            40.0,
+            (8, 8),
+        )
+        .unwrap();
+        let mut b = SceneBuilder::new(camera);
+        let lamp = b.add_material(Material::new(Bsdf::diffuse(Vec3::ZERO), Vec3::splat(1e9)));
+        b.add_mesh(TriangleMesh::quad(
+            Vec3::new(0.0, 250.0, 0.0),
+            Vec3::new(1e-4, 0.0, 0.0),
+            Vec3::new(0.0, 0.0, 1e-4),
+            lamp,
+        ));
+        assert_eq!(
+            lights_in_other_surfaces(&b.build().unwrap()),
+            [] as [u32; 0]
+        );
     }
 }
