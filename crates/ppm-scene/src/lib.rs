@@ -20,6 +20,7 @@
 mod build;
 mod content_hash;
 mod error;
+mod light_area;
 mod light_placement;
 pub mod mtl;
 mod nesting;
@@ -47,6 +48,7 @@ pub struct LoadedScene {
 pub fn load_scene(path: &Path) -> Result<LoadedScene, LoadError> {
     let (builder, mut warnings) = load_scene_builder(path)?;
     let content_hash = content_hash(&builder);
+    let emissive = light_area::emissive_triangles(&builder);
     let scene = builder.build().map_err(|source| LoadError::Scene {
         path: path.to_path_buf(),
         source,
@@ -56,6 +58,20 @@ pub fn load_scene(path: &Path) -> Result<LoadedScene, LoadError> {
             "{}: a light of material `{}` lies in the plane of another surface: rays find one or the other by rounding, so the lamp looks speckled and the algorithms disagree; move it off by a little (the shipped boxes hang their lamp 2 cm under the ceiling)",
             path.display(),
             scene.materials[material as usize].name
+        ));
+    }
+    for (material, triangles) in light_area::lights_without_area(&scene, &emissive) {
+        warnings.push(format!(
+            "{}: {} of light material `{}` emit{} nothing: no area is left in single precision at {} distance from the camera; make the lamp larger against that distance",
+            path.display(),
+            if triangles == 1 {
+                "the 1 triangle".to_string()
+            } else {
+                format!("the {triangles} triangles")
+            },
+            scene.materials[material as usize].name,
+            if triangles == 1 { "s" } else { "" },
+            if triangles == 1 { "its" } else { "their" },
         ));
     }
     let duplicates = scene.geometry.duplicate_triangles();

@@ -535,6 +535,25 @@ fn a_lamp_in_another_surfaces_plane_is_warned_about() {
     }
 }
 
+/// A lamp quad far smaller than the f32 spacing at its distance from the camera loses its
+/// area when the scene is built: the loader names it (beside a lamp sphere of the same
+/// material, which still emits); a quad of 1 cm there is not named.
+#[test]
+fn a_lamp_without_area_in_single_precision_is_warned_about() {
+    for (side, warned) in [("1e-9", true), ("0.01", false)] {
+        let text = format!(
+            "{VALID}  - {{ type: quad, corner: [0.3, 1.5, 0], edge_u: [{side}, 0, 0], edge_v: [0, 0, {side}], material: lamp }}\n"
+        );
+        let dir = write_files(&format!("tiny_lamp_{side}"), &[("lamp.yml", &text)]);
+        let loaded = ppm_scene::load_scene(&dir.join("lamp.yml")).unwrap();
+        let found = loaded.warnings.iter().any(|w| {
+            w.contains("the 2 triangles of light material `lamp` emit nothing")
+                && w.contains("single precision")
+        });
+        assert_eq!(found, warned, "side {side}: {:?}", loaded.warnings);
+    }
+}
+
 #[test]
 fn optional_parts_have_documented_defaults() {
     let text = format!("{CAMERA}materials:\n  m: {{ type: mirror }}\n  g: {{ type: glass, ior: 1.5 }}\nobjects:\n  - {{ type: sphere, center: [0, 1, 0], radius: 0.5, material: m, inward: true }}\n  - {{ type: sphere, center: [0, 1, 0], radius: 0.2, material: g }}\n");
