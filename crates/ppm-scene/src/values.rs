@@ -194,6 +194,32 @@ impl<'de, R: Rule> Deserialize<'de> for Triple<R> {
     }
 }
 
+/// One component of a [`Triple`]: any YAML number, or an error that says "a number" (not
+/// serde's "f64").
+struct Number(f64);
+
+impl<'de> Deserialize<'de> for Number {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct NumberVisitor;
+        impl Visitor<'_> for NumberVisitor {
+            type Value = Number;
+            fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+                f.write_str("a number")
+            }
+            fn visit_f64<E: de::Error>(self, x: f64) -> Result<Number, E> {
+                Ok(Number(x))
+            }
+            fn visit_i64<E: de::Error>(self, x: i64) -> Result<Number, E> {
+                Ok(Number(x as f64))
+            }
+            fn visit_u64<E: de::Error>(self, x: u64) -> Result<Number, E> {
+                Ok(Number(x as f64))
+            }
+        }
+        d.deserialize_f64(NumberVisitor)
+    }
+}
+
 struct TripleVisitor<R>(PhantomData<R>);
 
 impl<'de, R: Rule> Visitor<'de> for TripleVisitor<R> {
@@ -204,7 +230,7 @@ impl<'de, R: Rule> Visitor<'de> for TripleVisitor<R> {
     fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Triple<R>, A::Error> {
         let mut v = [0.0f64; 3];
         for (i, vi) in v.iter_mut().enumerate() {
-            let x: f64 = seq
+            let Number(x) = seq
                 .next_element()?
                 .ok_or_else(|| de::Error::invalid_length(i, &self))?;
             *vi = x;
