@@ -22,7 +22,7 @@ pub enum SceneError {
     /// [`crate::light::MAX_LIGHT_POWER`]: photon fluxes and density estimates would overflow
     /// to infinity and be dropped, and the light would render black.
     #[error(
-        "{light}: emitted power {power:e} W exceeds the supported {max:e} W \
+        "{light}: emitted power {power:.3e} W exceeds the supported {max:.0e} W \
          (the renderer computes in f32; lower the emission or intensity, or scale the scene)"
     )]
     LightPower { light: String, power: f64, max: f64 },
