@@ -65,17 +65,16 @@ fn rescue_folders(paths: &OutputPaths) -> Vec<PathBuf> {
         Some(set("TMPDIR").map_or_else(|| PathBuf::from("/tmp"), PathBuf::from)),
         set("HOME").map(PathBuf::from),
     ];
-    let mut folders: Vec<PathBuf> = Vec::new();
+    // (folder as given, its canonical form for the comparisons)
+    let mut folders: Vec<(PathBuf, PathBuf)> = Vec::new();
     for folder in candidates.into_iter().flatten() {
         let canonical = folder.canonicalize().unwrap_or_else(|_| folder.clone());
-        let seen = folders
-            .iter()
-            .any(|f| f.canonicalize().unwrap_or_else(|_| f.clone()) == canonical);
+        let seen = folders.iter().any(|(_, c)| *c == canonical);
         if !seen && own.as_ref() != Some(&canonical) {
-            folders.push(folder);
+            folders.push((folder, canonical));
         }
     }
-    folders
+    folders.into_iter().map(|(folder, _)| folder).collect()
 }
 
 /// The output's folder, canonical (`None` if it cannot be resolved).

@@ -14,16 +14,15 @@ use ppm_core::scene::{Scene, SceneBuilder};
 /// every triangle here had area in the description's f64 numbers; the builder holds them in
 /// f32 relative to the camera, where a tiny one may already have none.)
 pub fn emissive_triangles(builder: &SceneBuilder) -> Vec<usize> {
-    let mut count = vec![0usize; builder.materials.len()];
-    for mesh in &builder.meshes {
-        for &m in &mesh.materials {
-            let emits = builder
-                .materials
-                .get(m as usize)
-                .is_some_and(|mat| mat.emission.max_element() > 0.0);
-            if emits {
-                count[m as usize] += 1;
-            }
+    let emits: Vec<bool> = builder
+        .materials
+        .iter()
+        .map(|mat| mat.emission.max_element() > 0.0)
+        .collect();
+    let mut count = vec![0usize; emits.len()];
+    for &m in builder.meshes.iter().flat_map(|mesh| &mesh.materials) {
+        if emits.get(m as usize) == Some(&true) {
+            count[m as usize] += 1;
         }
     }
     count
