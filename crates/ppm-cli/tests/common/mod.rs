@@ -5,6 +5,8 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
+pub mod process;
+
 /// The `ppm` binary, run in `dir`.
 pub fn ppm(dir: &Path) -> Command {
     let mut command = Command::new(env!("CARGO_BIN_EXE_ppm"));
