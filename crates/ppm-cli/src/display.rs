@@ -13,14 +13,15 @@
 //!
 //! The render never waits for the viewer: frames go to a sender thread through a queue of one
 //! slot, and a frame that finds the slot full is dropped (the next one is newer anyway). Only
-//! the final image is handed over with a wait, bounded by the socket's write timeout. A server
-//! that cannot be reached, or that goes away, is a warning.
+//! the final image is handed over with a wait, bounded as a whole by [`FINAL_WAIT`]: a viewer
+//! that accepts but stops reading delays the end of a render (or its stop on a signal) by at
+//! most that, and the sender thread, still blocked in a write, is left to the process's exit.
+//! A server that cannot be reached, or that goes away, is a warning.
 
 use ppm_core::film::Image;
 use std::io::Write;
 use std::net::{TcpStream, ToSocketAddrs};
-use std::sync::mpsc::{sync_channel, SyncSender, TrySendError};
-use std::thread::JoinHandle;
+use std::sync::mpsc::{sync_channel, Receiver, RecvTimeoutError, SyncSender, TrySendError};
 use std::time::{Duration, Instant};
 
 /// Tile side, in pixels: a tile packet is at most 128 * 128 * 12 bytes (192 KiB) of pixels.
@@ -32,13 +33,18 @@ pub const UPDATE_IMAGE_V3: u8 = 6;
 const MIN_INTERVAL: Duration = Duration::from_millis(500);
 /// How long connecting and writing may take before the viewer is given up.
 const TIMEOUT: Duration = Duration::from_secs(5);
+/// The longest the end of a render waits for the viewer to take the final image, in all: a
+/// stop signal's grace period (`timeout -k 10`, `docker stop`: 10 s) must cover it and the
+/// final write with room to spare.
+pub const FINAL_WAIT: Duration = Duration::from_secs(2);
 
 const CHANNELS: [&str; 3] = ["R", "G", "B"];
 
 /// Streams images to a tev display server from a background thread.
 pub struct Display {
     sender: Option<SyncSender<Image>>,
-    thread: Option<JoinHandle<()>>,
+    /// Disconnected when the sender thread ends (its end of the channel is dropped with it).
+    finished: Option<Receiver<()>>,
     last_sent: Option<Instant>,
 }
 
@@ -46,11 +52,13 @@ impl Display {
     /// Starts the sender thread for server `address` ("host:port"); the image is named `name`.
     pub fn start(address: &str, name: &str) -> Self {
         let (sender, receiver) = sync_channel::<Image>(1);
+        let (thread_alive, finished) = sync_channel::<()>(0);
         let address = address.to_string();
         let name = name.to_string();
         let thread = std::thread::Builder::new()
             .name("tev display".into())
             .spawn(move || {
+                let _alive = thread_alive;
                 let mut stream = match connect(&address) {
                     Ok(stream) => stream,
                     Err(e) => {
@@ -69,16 +77,16 @@ impl Display {
                 }
             });
         match thread {
-            Ok(thread) => Display {
+            Ok(_detached) => Display {
                 sender: Some(sender),
-                thread: Some(thread),
+                finished: Some(finished),
                 last_sent: None,
             },
             Err(e) => {
                 status!("warning: cannot start the display thread: {e}");
                 Display {
                     sender: None,
-                    thread: None,
+                    finished: None,
                     last_sent: None,
                 }
             }
@@ -100,14 +108,33 @@ impl Display {
         self.last_sent = Some(Instant::now());
     }
 
-    /// Sends the final image (waiting for the sender, which gives up after its write
-    /// timeout) and ends the thread.
+    /// Hands the final image to the sender thread and waits for it to be sent, [`FINAL_WAIT`]
+    /// at most in all; past that the image is dropped with a warning and the thread left
+    /// behind (it ends with the process).
     pub fn finish(mut self, image: Image) {
-        if let Some(sender) = self.sender.take() {
-            let _ = sender.send(image);
+        let deadline = Instant::now() + FINAL_WAIT;
+        let (Some(sender), Some(finished)) = (self.sender.take(), self.finished.take()) else {
+            return;
+        };
+        // The slot may still hold a frame the thread has not taken: retry until the deadline.
+        let mut image = Some(image);
+        while let Some(frame) = image.take() {
+            match sender.try_send(frame) {
+                Ok(()) | Err(TrySendError::Disconnected(_)) => {}
+                Err(TrySendError::Full(frame)) if Instant::now() < deadline => {
+                    image = Some(frame);
+                    std::thread::sleep(Duration::from_millis(5));
+                }
+                Err(TrySendError::Full(_)) => break,
+            }
         }
-        if let Some(thread) = self.thread.take() {
-            let _ = thread.join();
+        drop(sender);
+        let left = deadline.saturating_duration_since(Instant::now());
+        if let Err(RecvTimeoutError::Timeout) = finished.recv_timeout(left) {
+            status!(
+                "warning: the display server did not take the final image within {} s; not waiting for it",
+                FINAL_WAIT.as_secs_f32()
+            );
         }
     }
 }

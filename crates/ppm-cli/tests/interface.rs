@@ -1,4 +1,4 @@
-//! The interface conventions of issue 21, through the binary: the tev preview, crop windows,
+//! The interface conventions, through the binary: the tev preview, crop windows,
 //! black images explained, --spp/-q/-v/-t, scenes found from anywhere, the settings in the
 //! summary, a bare OBJ refused in one line and `ppm info`.
 
@@ -167,6 +167,42 @@ fn an_unreachable_display_server_is_a_warning() {
         "{log}"
     );
     assert!(dir.path().join("tiny.exr").is_file());
+}
+
+/// A viewer that accepts the connection but never reads holds the render at its end for at
+/// most the display's final wait (2 s), with a warning, instead of the socket timeouts of every
+/// blocked write: the image is written, and a stop signal's grace period (10 s) is not spent.
+#[test]
+fn a_viewer_that_stops_reading_does_not_hold_the_render() {
+    let dir = tempfile::tempdir().unwrap();
+    tiny_scene(dir.path());
+    let stalled = TcpListener::bind("127.0.0.1:0").unwrap();
+    let address = stalled.local_addr().unwrap().to_string();
+    // Accepts and keeps the connection open without reading until the test ends.
+    let holder = std::thread::spawn(move || stalled.accept().map(|(stream, _)| stream));
+    // 1024 x 768 RGB f32 is 9 MiB a frame, far beyond the loopback socket's buffers.
+    let args = [
+        "tiny.yml", "-n", "1", "-a", "pt", "--width", "1024", "--height", "768",
+    ];
+    let start = std::time::Instant::now();
+    ok(dir.path(), &args);
+    let alone = start.elapsed();
+    let mut with_viewer = args.to_vec();
+    with_viewer.extend(["--display-server", &address]);
+    let start = std::time::Instant::now();
+    let log = ok(dir.path(), &with_viewer);
+    let held = start.elapsed().saturating_sub(alone);
+    assert!(
+        log.contains("did not take the final image"),
+        "no warning about the stalled viewer: {log}"
+    );
+    // A bound, not a timing: before, each blocked write waited out a 5 s timeout (13-15 s).
+    assert!(
+        held < std::time::Duration::from_secs(5),
+        "the stalled viewer held the render {held:?}"
+    );
+    assert!(dir.path().join("tiny.exr").is_file());
+    drop(holder);
 }
 
 #[test]
