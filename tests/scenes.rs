@@ -48,9 +48,8 @@ fn transform(mut b: SceneBuilder, scale: f32, offset: Vec3) -> SceneBuilder {
         s.center = s.center * scale + offset;
         s.radius *= scale;
     }
-    for l in &mut b.point_lights {
-        l.position = l.position * scale + offset;
-        l.intensity *= scale * scale; // keeps the irradiance it gives at scaled distances
+    for l in &mut b.lights {
+        l.transform(scale, offset); // keeps the irradiance it gives at scaled distances
     }
     b.camera = b.camera.with_position(b.camera.position * scale + offset);
     b

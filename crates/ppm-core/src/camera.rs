@@ -101,6 +101,12 @@ impl Camera {
         self.forward
     }
 
+    /// The unit vectors right, up and forward, and tan(fov / 2), as the camera holds them
+    /// (the scene fingerprint records these values).
+    pub fn frame(&self) -> (Vec3, Vec3, Vec3, f32) {
+        (self.right, self.up, self.forward, self.tan_half_fov)
+    }
+
     /// The primary ray through image position `film` in pixels: (0, 0) is the top-left corner
     /// of the image, (width, height) the bottom-right; pixel (x, y) covers [x, x+1) x [y, y+1).
     #[inline]

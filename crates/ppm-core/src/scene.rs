@@ -3,7 +3,7 @@
 use crate::bsdf::BsdfFlags;
 use crate::camera::Camera;
 use crate::geometry::{Geometry, Hit, Ray, Sphere, TriangleMesh};
-use crate::light::{EmissionSample, Light, PointLight};
+use crate::light::{EmissionSample, Light, LightKind, PointLight};
 use crate::material::Material;
 use crate::sampling::Distribution1D;
 use crate::SceneError;
@@ -60,6 +60,8 @@ pub struct Scene {
     pub camera: Camera,
     pub materials: Vec<Material>,
     pub geometry: Geometry,
+    /// Every light: the area lights of the emissive primitives (in primitive order), then
+    /// the builder's lights in the order they were added.
     pub lights: Vec<Light>,
     pub defaults: RenderDefaults,
     /// Where the world origin went: the scene is stored relative to the camera (everything
@@ -77,7 +79,9 @@ pub struct SceneBuilder {
     pub materials: Vec<Material>,
     pub meshes: Vec<TriangleMesh>,
     pub spheres: Vec<Sphere>,
-    pub point_lights: Vec<PointLight>,
+    /// The lights that are not emissive geometry (point and spot lights), in the order of
+    /// the scene file's `lights:` list; area lights come from the materials' emission.
+    pub lights: Vec<Light>,
     pub defaults: RenderDefaults,
     /// Where the builder's origin lies in the world: world = builder coordinates + this.
     /// Zero unless the caller made its coordinates relative in higher precision than f32
@@ -94,7 +98,7 @@ impl SceneBuilder {
             materials: Vec::new(),
             meshes: Vec::new(),
             spheres: Vec::new(),
-            point_lights: Vec::new(),
+            lights: Vec::new(),
             defaults: RenderDefaults::default(),
             world_offset: Vec3::ZERO,
         }
@@ -116,9 +120,16 @@ impl SceneBuilder {
         self.spheres.push(sphere);
     }
 
-    /// Adds a point light.
+    /// Adds a light that is not emissive geometry (a point or spot light). An area light
+    /// added here is refused by [`SceneBuilder::build`]: area lights are made from the
+    /// materials' emission, so that the geometry a camera path hits and the light agree.
+    pub fn add_light(&mut self, light: Light) {
+        self.lights.push(light);
+    }
+
+    /// Adds a point light ([`SceneBuilder::add_light`]).
     pub fn add_point_light(&mut self, light: PointLight) {
-        self.point_lights.push(light);
+        self.add_light(Light::Point(light));
     }
 
     /// Builds the BVH and one area light per emissive primitive.
@@ -137,8 +148,8 @@ impl SceneBuilder {
         for s in &mut self.spheres {
             s.center -= origin;
         }
-        for l in &mut self.point_lights {
-            l.position -= origin;
+        for l in &mut self.lights {
+            l.translate(-origin);
         }
         self.camera = self.camera.with_position(Vec3::ZERO);
         let n_mat = self.materials.len() as u32;
@@ -174,19 +185,30 @@ impl SceneBuilder {
                 lights.push(light);
             }
         }
-        lights.extend(self.point_lights.iter().map(|p| Light::Point(*p)));
+        for (i, light) in self.lights.iter().enumerate() {
+            if light.kind() == LightKind::Area {
+                return Err(SceneError::InvalidValue {
+                    field: format!("light {i}"),
+                    value: light.name().to_string(),
+                    why: "area lights are made from emissive materials, not added as lights".into(),
+                });
+            }
+        }
         // Powers are checked where they are computed: an overflowing one would give NaN
         // selection weights and infinite photon fluxes, which the film drops: a black render.
-        let n_area = lights.len() - self.point_lights.len();
-        for (i, light) in lights.iter().enumerate() {
+        // Area lights are named by their primitive, the others by their place in the list.
+        let area_lights = lights.iter().map(|l| (l, None));
+        let added = self.lights.iter().enumerate().map(|(i, l)| (l, Some(i)));
+        for (light, index) in area_lights.chain(added) {
             if let Err(power) = light.check_power() {
                 return Err(SceneError::LightPower {
-                    light: self.describe_light(light, i.saturating_sub(n_area), &geometry),
+                    light: self.describe_light(light, index, &geometry),
                     power,
                     max: crate::light::MAX_LIGHT_POWER as f64,
                 });
             }
         }
+        lights.extend_from_slice(&self.lights);
         let weights: Vec<f32> = lights
             .iter()
             .map(|l| l.power().element_sum() / 3.0)
@@ -205,9 +227,9 @@ impl SceneBuilder {
 }
 
 impl SceneBuilder {
-    /// A light named for an error message: its kind and primitive (area lights) or index
-    /// among the point lights (`point_index`), and its material or intensity.
-    fn describe_light(&self, light: &Light, point_index: usize, geometry: &Geometry) -> String {
+    /// A light named for an error message: its model and primitive and material (area
+    /// lights), or its model, `index` in the builder's list and what sets its power.
+    fn describe_light(&self, light: &Light, index: Option<usize>, geometry: &Geometry) -> String {
         let material = |m: u32| {
             let name = &self.materials[m as usize].name;
             if name.is_empty() {
@@ -216,20 +238,17 @@ impl SceneBuilder {
                 format!("material `{name}`")
             }
         };
-        match light {
-            Light::Triangle(light) => {
-                format!(
-                    "emissive triangle {} ({})",
-                    light.prim,
-                    material(geometry.triangle(light.prim).1)
-                )
+        match (light.prim(), index) {
+            (Some(prim), _) => {
+                let m = if (prim as usize) < geometry.triangle_count() {
+                    geometry.triangle(prim).1
+                } else {
+                    geometry.sphere(prim).material
+                };
+                format!("{} {prim} ({})", light.name(), material(m))
             }
-            Light::Sphere(light) => format!(
-                "emissive sphere {} ({})",
-                light.prim,
-                material(light.sphere.material)
-            ),
-            Light::Point(p) => format!("point light {point_index} (intensity {})", p.intensity),
+            (None, Some(i)) => format!("{} {i} ({})", light.name(), light.describe()),
+            (None, None) => format!("{} ({})", light.name(), light.describe()),
         }
     }
 }
@@ -298,15 +317,15 @@ impl Scene {
         Some(s)
     }
 
-    /// True if the scene has a point light and a surface whose material has a perfectly
-    /// specular lobe (mirror, glass). Light from a point light that meets such a lobe before a diffuse or
-    /// glossy surface (the point light's caustics, its image in a mirror, its light through
-    /// glass) is carried by paths a unidirectional path tracer never samples: a camera path
-    /// cannot hit a point, and light sampling cannot connect through a delta lobe. That light
-    /// is missing from a path-traced image; photon mapping and VCM trace it from the light.
-    pub fn has_point_light_behind_specular(&self) -> bool {
-        let point = self.lights.iter().any(|l| matches!(l, Light::Point(_)));
-        if !point {
+    /// True if the scene has a delta light (a point or spot light: [`LightKind::is_delta`])
+    /// and a surface whose material has a perfectly specular lobe (mirror, glass). Light from
+    /// a delta light that meets such a lobe before a diffuse or glossy surface (its caustics,
+    /// its image in a mirror, its light through glass) is carried by paths a unidirectional
+    /// path tracer never samples: a camera path cannot hit a point (or a direction), and
+    /// light sampling cannot connect through a delta lobe. That light is missing from a
+    /// path-traced image; photon mapping and VCM trace it from the light.
+    pub fn has_delta_light_behind_specular(&self) -> bool {
+        if !self.lights.iter().any(|l| l.is_delta()) {
             return false;
         }
         let specular = |m: u32| {

@@ -6,11 +6,14 @@
 //! - `pdf_direct` integrates over the sphere of directions to the probability that
 //!   `sample_direct` returns a sample (1 for a light wholly facing the point, the facing
 //!   fraction for a sphere seen from outside); a delta light has `pdf_direct = 0` and is
-//!   sampled with probability 1 and pdf 1;
+//!   sampled with pdf 1, from each point always or never (never where it sends no light);
 //! - `sample_direct` and `pdf_direct` agree: the pdf of each sample is `pdf_direct` of its
 //!   point, bit for bit, and the samples are distributed by that pdf (the estimate
 //!   E[g(wi) / pdf] equals the integral of g over the directions that see the light);
 //! - the mean of `sample_emission`'s flux is `power()`;
+//! - a delta light's radiant intensity, seen by `sample_direct` as li d^2, is what its
+//!   emission samples carry (flux pdf_dir), integrates over the sphere to `power()`, and
+//!   its emission directions follow `pdf_emission`;
 //! - `le` is one-sided (Lambertian: constant on the side the normal points to, zero on the
 //!   other), zero for a delta light, and agrees with the emission samples' flux.
 //!
@@ -23,7 +26,7 @@ mod common;
 use common::{seed, Stats};
 use glam::Vec3;
 use ppm_core::geometry::{intersect_triangle, Sphere, Triangle};
-use ppm_core::light::{Light, PointLight};
+use ppm_core::light::{Light, LightKind, PointLight};
 use ppm_core::sampling::{uniform_sphere, Rng};
 use std::f64::consts::PI;
 
@@ -42,7 +45,7 @@ fn light_surface(light: &Light, p: Vec3, w: Vec3) -> Option<(Vec3, Vec3)> {
             let outward = (q - l.sphere.center).normalize();
             (q, if l.sphere.inward { -outward } else { outward })
         }),
-        Light::Point(_) => None,
+        Light::Point(_) | Light::Spot(_) => None,
     }
 }
 
@@ -70,9 +73,11 @@ fn check_pdf_integrates(name: &str, light: &Light, points: &[Vec3]) {
             sampled.push(light.sample_direct(p, rng.uniform2()).is_some() as u64 as f64);
         }
         if light.is_delta() {
-            // A discrete choice: always the light, with pdf 1; no density over directions.
-            assert_eq!(sampled.mean(), 1.0, "{name}: delta light from {p}");
-            some_light_seen = true;
+            // A discrete choice: the light, with pdf 1, whatever the random numbers (or
+            // never, where it sends no light); no density over directions.
+            let mean = sampled.mean();
+            assert!(mean == 1.0 || mean == 0.0, "{name}: delta light from {p}");
+            some_light_seen |= mean == 1.0;
             continue;
         }
         let mut integral = Stats::default();
@@ -119,9 +124,8 @@ fn check_sample_matches_pdf(name: &str, light: &Light, points: &[Vec3]) {
             if light.is_delta() {
                 assert_eq!(s.pdf, 1.0, "{name}: a delta light's discrete pdf");
                 assert_eq!(light.pdf_direct(p, s.p, s.n), 0.0, "{name}");
-                // Radiant intensity over the squared distance (inverse-square law).
-                let expected = light.power() / (4.0 * std::f32::consts::PI * s.dist * s.dist);
-                assert!((s.li - expected).abs().max_element() <= 1e-5 * expected.max_element());
+                // The intensity it gives is checked against emission in
+                // `check_delta_intensity`.
             } else {
                 assert_eq!(
                     light.pdf_direct(p, s.p, s.n).to_bits(),
@@ -179,13 +183,72 @@ fn check_emitted_power(name: &str, light: &Light) {
         );
     }
     if light.is_delta() {
-        // Isotropic: the mean direction is zero (each component has variance 1/3).
-        for d in direction {
-            assert!(
-                d.mean().abs() < 5.0 * (1.0 / 3.0 / SAMPLES as f64).sqrt(),
-                "{name}"
+        // Delta lights emit from one point: every direction's density is `pdf_emission`'s,
+        // so E[dir] over the samples is 4 pi E_uniform[w pdf(w)] (5 standard errors).
+        let mut expected = [Stats::default(); 3];
+        for _ in 0..SAMPLES {
+            let w = uniform_sphere(rng.uniform2());
+            let pdf = light.pdf_emission(Vec3::ZERO, w).1 as f64;
+            for c in 0..3 {
+                expected[c].push(4.0 * PI * w[c] as f64 * pdf);
+            }
+        }
+        for c in 0..3 {
+            assert_agree(
+                &direction[c],
+                &expected[c],
+                &format!("{name}: mean emitted direction, component {c}"),
             );
         }
+    }
+}
+
+/// A delta light at point x0 (the origin of its emission samples): the radiant intensity
+/// I(w) = li d^2 that `sample_direct` gives at x0 + d w (inverse-square law) is the one its
+/// emission samples carry along w (flux pdf_dir = I(w)), and integrates over the sphere to
+/// its power (uniform directions: 4 pi E[I(w)], 5 standard errors).
+fn check_delta_intensity(name: &str, light: &Light) {
+    if light.kind() != LightKind::DeltaPosition {
+        return;
+    }
+    let mut rng = Rng::new(seed(name), 6, 0);
+    let x0 = light
+        .sample_emission(rng.uniform2(), rng.uniform2())
+        .ray_origin;
+    let intensity = |w: Vec3, d: f32, rng: &mut Rng| {
+        light
+            .sample_direct(x0 + w * d, rng.uniform2())
+            .map_or(Vec3::ZERO, |s| s.li * s.dist * s.dist)
+    };
+    for _ in 0..20_000 {
+        let s = light.sample_emission(rng.uniform2(), rng.uniform2());
+        assert_eq!(s.ray_origin, x0, "{name}: emits from one point");
+        let carried = s.flux * s.pdf_dir;
+        let seen = intensity(s.dir, 3.0, &mut rng);
+        assert!(
+            (carried - seen).abs().max_element() <= 1e-4 * seen.max_element() + 1e-6,
+            "{name}: along {}: emission carries {carried}, sample_direct sees {seen}",
+            s.dir
+        );
+    }
+    let mut total = [Stats::default(); 3];
+    for _ in 0..SAMPLES {
+        let w = uniform_sphere(rng.uniform2());
+        let i = intensity(w, 0.5, &mut rng);
+        for c in 0..3 {
+            total[c].push(4.0 * PI * i[c] as f64);
+        }
+    }
+    let power = light.power();
+    for c in 0..3 {
+        let tol = 5.0 * total[c].std_error() + 1e-5 * power[c] as f64;
+        assert!(
+            (total[c].mean() - power[c] as f64).abs() <= tol,
+            "{name}: intensity integrates to {} +- {}, power {}",
+            total[c].mean(),
+            total[c].std_error(),
+            power[c]
+        );
     }
 }
 
@@ -276,6 +339,10 @@ macro_rules! light_harness {
                     check_pdf_emission(stringify!($name), &light());
                 }
                 #[test]
+                fn delta_intensity_matches_emission_and_power() {
+                    check_delta_intensity(stringify!($name), &light());
+                }
+                #[test]
                 fn le_is_one_sided() {
                     check_le_one_sided(stringify!($name), &light());
                 }
@@ -325,6 +392,31 @@ fn point() -> Light {
     })
 }
 
+/// A spot light pointing down and sideways, with a 40 degree cone whose last 15 degrees
+/// fall off.
+fn spot() -> Light {
+    Light::spot(
+        Vec3::new(0.5, 2.0, -1.0),
+        Vec3::new(0.3, -1.0, 0.2),
+        Vec3::new(2.0, 1.0, 0.5),
+        40f32.to_radians(),
+        25f32.to_radians(),
+    )
+    .unwrap()
+}
+
+/// A spot light with a sharp edge (no falloff) and a cone wider than a hemisphere.
+fn spot_wide() -> Light {
+    Light::spot(
+        Vec3::ZERO,
+        Vec3::X,
+        Vec3::ONE,
+        120f32.to_radians(),
+        120f32.to_radians(),
+    )
+    .unwrap()
+}
+
 light_harness! {
     triangle: downward_triangle() => [
         Vec3::new(0.1, 0.4, 0.0),            // below, in front of it
@@ -346,5 +438,15 @@ light_harness! {
     point_light: point() => [
         Vec3::ZERO,
         Vec3::new(1.0, 2.0, 2.0),
+    ],
+    spot_light: spot() => [
+        Vec3::new(0.8, 1.0, -0.8),           // on the axis
+        Vec3::new(0.5, -1.0, -1.0),          // 20 degrees off it
+        Vec3::new(0.5, 0.0, -1.6),           // 32 degrees off: in the falloff band
+        Vec3::new(0.5, 3.0, -1.0),           // behind: no light
+    ],
+    spot_light_wide: spot_wide() => [
+        Vec3::new(-0.3, 1.0, 0.0),           // behind the plane of the light, in the cone
+        Vec3::new(-1.0, 0.2, 0.0),           // outside the cone
     ],
 }

@@ -4,14 +4,15 @@
 use crate::error::LoadError;
 use crate::obj::{self, ObjMaterials};
 use crate::yaml::{
-    AlgorithmName, LightType, MaterialDesc, MaterialType, ObjectDesc, ObjectType, SceneFile,
+    AlgorithmName, LightDesc, LightType, MaterialDesc, MaterialType, ObjectDesc, ObjectType,
+    SceneFile,
 };
 use glam::{DVec3, Vec3};
 use ppm_core::bsdf::{Bsdf, Phong};
 use ppm_core::camera::Camera;
 use ppm_core::geometry::{Sphere, TriangleMesh};
 use ppm_core::integrator::{Algorithm, MAX_DEPTH};
-use ppm_core::light::PointLight;
+use ppm_core::light::{Light, PointLight};
 use ppm_core::material::Material;
 use ppm_core::scene::{RenderDefaults, SceneBuilder};
 use std::path::Path;
@@ -134,13 +135,8 @@ pub fn build(
         }
     }
 
-    for l in file.lights.unwrap_or_default() {
-        match l.kind {
-            LightType::Point => builder.add_point_light(PointLight {
-                position: l.position.relative_to(origin),
-                intensity: l.intensity.value(),
-            }),
-        }
+    for (i, l) in file.lights.unwrap_or_default().iter().enumerate() {
+        builder.add_light(light(l, &format!("lights[{i}]"), origin, path)?);
     }
 
     let mut defaults = RenderDefaults::default();
@@ -183,7 +179,7 @@ pub fn build(
         }
     }
     let emits = |m: u32| builder.materials[m as usize].is_emissive();
-    let has_light = !builder.point_lights.is_empty()
+    let has_light = !builder.lights.is_empty()
         || builder.spheres.iter().any(|s| emits(s.material))
         || builder
             .meshes
@@ -191,11 +187,106 @@ pub fn build(
             .any(|mesh| mesh.materials.iter().any(|&m| emits(m)));
     if !has_light {
         warnings.push(format!(
-            "{}: the scene has no light (no emissive material on any object, no point light): the image will be black",
+            "{}: the scene has no light (no emissive material on any object, no point or spot light): the image will be black",
             path.display()
         ));
     }
     Ok(builder)
+}
+
+/// A light of the `lights:` list (at `field`), its points made relative to `origin`.
+fn light(l: &LightDesc, field: &str, origin: DVec3, path: &Path) -> Result<Light, LoadError> {
+    let position = l.position.relative_to(origin);
+    let intensity = l.intensity.value();
+    let kind = light_type_name(l.kind);
+    let present = [
+        ("direction", l.direction.is_some()),
+        ("look_at", l.look_at.is_some()),
+        ("cone_angle", l.cone_angle.is_some()),
+        ("falloff_start", l.falloff_start.is_some()),
+    ];
+    let allowed: &[&str] = match l.kind {
+        LightType::Point => &["position", "intensity"],
+        LightType::Spot => &[
+            "position",
+            "intensity",
+            "direction",
+            "look_at",
+            "cone_angle",
+            "falloff_start",
+        ],
+    };
+    check_fields(path, field, kind, &present, allowed)?;
+    let invalid = |name: &str, why: String| LoadError::invalid(path, format!("{field}{name}"), why);
+    match l.kind {
+        LightType::Point => Ok(Light::Point(PointLight {
+            position,
+            intensity,
+        })),
+        LightType::Spot => {
+            let direction = match (&l.direction, &l.look_at) {
+                (Some(d), None) => d.value(),
+                (None, Some(target)) => target.relative_to(origin) - position,
+                (Some(_), Some(_)) => {
+                    return Err(invalid(
+                        "",
+                        "a spot light takes `direction` or `look_at`, not both".into(),
+                    ))
+                }
+                (None, None) => {
+                    return Err(invalid(
+                        "",
+                        "a spot light needs `direction` or `look_at`".into(),
+                    ))
+                }
+            };
+            let axis = if l.direction.is_some() {
+                ".direction"
+            } else {
+                ".look_at"
+            };
+            if !(direction.is_finite() && direction.length() > 0.0) {
+                return Err(invalid(
+                    axis,
+                    "the axis has no direction (a zero direction, or look_at at position)".into(),
+                ));
+            }
+            let cone = l
+                .cone_angle
+                .as_ref()
+                .ok_or_else(|| invalid("", "a spot light needs `cone_angle`".into()))?
+                .0;
+            if cone > 180.0 {
+                return Err(invalid(
+                    ".cone_angle",
+                    format!("{cone} degrees is more than 180 (the whole sphere)"),
+                ));
+            }
+            // No falloff start: full intensity up to the cone's edge.
+            let start = l.falloff_start.as_ref().map_or(cone, |s| s.0);
+            if start > cone {
+                return Err(invalid(
+                    ".falloff_start",
+                    format!("{start} degrees is beyond cone_angle ({cone} degrees)"),
+                ));
+            }
+            Light::spot(
+                position,
+                direction,
+                intensity,
+                cone.to_radians(),
+                start.to_radians(),
+            )
+            .ok_or_else(|| invalid("", "not a valid spot light".into()))
+        }
+    }
+}
+
+fn light_type_name(kind: LightType) -> &'static str {
+    match kind {
+        LightType::Point => "point light",
+        LightType::Spot => "spot light",
+    }
 }
 
 /// Loads an OBJ and adds its meshes, with `material` for everything or its MTL materials.

@@ -92,17 +92,25 @@ pub struct ObjectDesc {
 #[serde(rename_all = "lowercase")]
 pub enum LightType {
     Point,
+    Spot,
 }
 
-/// One light without geometry.
+/// One light without geometry; which fields apply beyond `position` and `intensity` depends
+/// on `type` (checked in `build.rs`).
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct LightDesc {
     #[serde(rename = "type")]
     pub kind: LightType,
     pub position: Point,
-    /// Radiant intensity in W/sr per channel.
+    /// Radiant intensity in W/sr per channel (a spot light's on its axis).
     pub intensity: Triple<NonNegative>,
+    /// A spot light's axis, as a direction or as a point it aims at.
+    pub direction: Option<Point>,
+    pub look_at: Option<Point>,
+    /// A spot light's cone angle and falloff start, degrees from the axis.
+    pub cone_angle: Option<Num<Positive>>,
+    pub falloff_start: Option<Num<NonNegative>>,
 }
 
 /// `render:` defaults the command line may override.

@@ -128,11 +128,17 @@ fn unknown_types_list_the_valid_ones() {
         ],
     );
     let e = error(&format!(
-        "{VALID}lights:\n  - {{ type: spot, position: [0, 1, 0], intensity: [1, 1, 1] }}\n"
+        "{VALID}lights:\n  - {{ type: distant, position: [0, 1, 0], intensity: [1, 1, 1] }}\n"
     ));
     has(
         &e,
-        &["dir/bad.yml:10:", "lights[0].type", "`spot`", "point"],
+        &[
+            "dir/bad.yml:10:",
+            "lights[0].type",
+            "`distant`",
+            "point",
+            "spot",
+        ],
     );
     let e = error(&valid_with("type: diffuse, color", "color"));
     has(&e, &["materials.white", "missing field `type`"]);
@@ -497,7 +503,7 @@ fn warnings_for_suspicious_but_valid_scenes() {
     );
     let (b, warnings) = parse_scene(&lit, Path::new("dir/lit.yml")).unwrap();
     assert!(warnings.is_empty(), "{warnings:?}");
-    assert_eq!(b.point_lights.len(), 1);
+    assert_eq!(b.lights.len(), 1);
     // A Phong exponent beyond what ppm renders is said, with the value used.
     let sharp = valid_with(
         "white: { type: diffuse, color: [0.7, 0.7, 0.7] }",

@@ -8,11 +8,13 @@ mod common;
 
 use common::write_files;
 use glam::{Vec2, Vec3};
+use ppm_core::light::Light;
 use ppm_core::scene::SceneBuilder;
 use ppm_scene::{load_scene, load_scene_builder};
 
-/// A camera, a sphere, a quad 1 mm above a floor quad, a point light and an OBJ triangle
-/// 2 mm above the floor, all moved by `offset`.
+/// A camera, a sphere, a quad 1 mm above a floor quad, a point light, a spot light aimed at
+/// a point 1 cm from the floor's centre and an OBJ triangle 2 mm above the floor, all moved
+/// by `offset`.
 fn files(offset: [f64; 3]) -> Vec<(&'static str, String)> {
     let p = |x: f64, y: f64, z: f64| {
         format!("[{}, {}, {}]", x + offset[0], y + offset[1], z + offset[2])
@@ -30,6 +32,7 @@ objects:
   - {{ type: mesh, file: tri.obj, material: white }}
 lights:
   - {{ type: point, position: {}, intensity: [1, 1, 1] }}
+  - {{ type: spot, position: {}, look_at: {}, intensity: [1, 1, 1], cone_angle: 20 }}
 ",
         p(0.0, 1.0, 3.9),
         p(0.0, 0.5, 0.0),
@@ -37,6 +40,8 @@ lights:
         p(-0.25, 0.001, -0.25),
         p(0.4, 0.3, 0.1),
         p(0.0, 1.9, 0.0),
+        p(0.0, 1.9, 0.0),
+        p(0.01, 0.0, 0.0),
     );
     let v = |x: f64, y: f64, z: f64| {
         format!("v {} {} {}\n", x + offset[0], y + offset[1], z + offset[2])
@@ -98,10 +103,30 @@ fn a_scene_far_from_the_origin_loads_as_it_does_at_the_origin() {
             near.spheres[0].center - near_camera,
             "the sphere",
         );
+        let (Light::Point(far_point), Light::Point(near_point)) = (far.lights[0], near.lights[0])
+        else {
+            panic!("{:?}", far.lights);
+        };
         close(
-            far.point_lights[0].position - far_camera,
-            near.point_lights[0].position - near_camera,
+            far_point.position - far_camera,
+            near_point.position - near_camera,
             "the point light",
+        );
+        let (Light::Spot(far_spot), Light::Spot(near_spot)) = (far.lights[1], near.lights[1])
+        else {
+            panic!("{:?}", far.lights);
+        };
+        close(
+            far_spot.position - far_camera,
+            near_spot.position - near_camera,
+            "the spot light",
+        );
+        // Its axis from two points 1.9 apart: rounded before the subtraction it would be off
+        // by 1/16 unit at 1e6 (2 degrees).
+        close(
+            far_spot.direction(),
+            near_spot.direction(),
+            "the spot's axis",
         );
     }
 }

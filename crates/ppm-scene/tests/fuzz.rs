@@ -86,10 +86,9 @@ fn check_builder(b: &SceneBuilder) {
                 && s.material < n_materials
         );
     }
-    for l in &b.point_lights {
-        assert!(
-            l.position.is_finite() && l.intensity.is_finite() && l.intensity.min_element() >= 0.0
-        );
+    for l in &b.lights {
+        let power = l.power();
+        assert!(power.is_finite() && power.min_element() >= 0.0, "{l:?}");
     }
     let d = b.defaults;
     assert!(d.max_depth >= 1 && d.alpha > 0.0 && d.alpha <= 1.0);

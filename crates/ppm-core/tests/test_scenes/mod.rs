@@ -119,6 +119,26 @@ pub fn cornell_builder(resolution: u32, contents: BoxContents) -> SceneBuilder {
     b
 }
 
+/// The diffuse [`cornell`] box lit only by a spot light under the ceiling (its lamp quad
+/// emits nothing), aimed down and to the left so that its cone and falloff fall on the
+/// floor, the block and the red wall.
+pub fn spot_box(resolution: u32) -> SceneBuilder {
+    let mut b = cornell_builder(resolution, BoxContents::Diffuse);
+    for m in &mut b.materials {
+        m.emission = Vec3::ZERO;
+    }
+    let spot = ppm_core::light::Light::spot(
+        Vec3::new(0.2, 1.9, 0.1),
+        Vec3::new(-0.4, -1.0, -0.2),
+        Vec3::new(3.0, 2.5, 2.0),
+        35f32.to_radians(),
+        20f32.to_radians(),
+    )
+    .unwrap();
+    b.add_light(spot);
+    b
+}
+
 /// An axis-aligned box with its bottom centre at `base`, outward normals.
 pub fn add_block(b: &mut SceneBuilder, base: Vec3, size: f32, height: f32, m: u32) {
     let lo = base - Vec3::new(size / 2.0, 0.0, size / 2.0);
