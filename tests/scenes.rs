@@ -4,6 +4,7 @@
 #[path = "../crates/ppm-core/tests/test_scenes/mod.rs"]
 mod test_scenes;
 
+use ppm_core::light::Light;
 use ppm_core::prelude::*;
 use ppm_tests::{load_small, SCENES};
 use test_scenes::{z_scores, PixelStats};
@@ -113,7 +114,8 @@ fn far_and_tiny_scenes_render_like_the_original() {
     }
 }
 
-/// A scene of lights only (`objects:` empty, which the format allows) renders black with
+/// A scene of lights only (`objects:` empty, which the format allows; a point and a spot
+/// light) renders black with
 /// every algorithm: nothing to gather on, yet the `auto` radius must still be a valid one
 /// (it fell back to a fraction of the scene's diagonal, 0 here, and the photon grid
 /// refused it with a panic).
@@ -122,10 +124,12 @@ fn a_scene_without_geometry_renders_black_with_every_algorithm() {
     let mut builder = load_small("cornell_box.yml", 16, 16);
     builder.meshes.clear();
     builder.spheres.clear();
-    builder.point_lights.push(PointLight {
+    builder.add_point_light(PointLight {
         position: Vec3::new(0.0, 1.0, 0.0),
         intensity: Vec3::ONE,
     });
+    let spot = Light::spot(Vec3::Y, Vec3::NEG_Y, Vec3::ONE, 0.5, 0.3).unwrap();
+    builder.add_light(spot);
     let scene = builder.build().unwrap();
     for algorithm in Algorithm::ALL {
         let settings = RenderSettings {

@@ -240,3 +240,42 @@ fn spot_lights_with_unusable_axes_or_angles_are_refused() {
     assert!(spot(Vec3::Y, 0.5, -0.1).is_none());
     assert!(spot(Vec3::Y, 3.5, 0.1).is_none());
 }
+
+#[test]
+fn a_moved_and_scaled_delta_light_lights_the_moved_points_alike() {
+    // `Light::transform` (the scene-moving test helpers use it): with every point p taken to
+    // p s + o, the radiance arriving at the image of p is what arrived at p (to f32 rounding
+    // of the moved points, magnified by the falloff's slope).
+    let point = Light::Point(PointLight {
+        position: Vec3::new(0.2, 1.5, -0.3),
+        intensity: Vec3::new(1.0, 2.0, 3.0),
+    });
+    let mut rng = Rng::new(3, 0, 0);
+    for light in [downward_spot(), point] {
+        for (scale, offset) in [
+            (1.0, Vec3::new(10.0, -2.0, 5.0)),
+            (0.01, Vec3::X),
+            (40.0, Vec3::ZERO),
+        ] {
+            let mut moved = light;
+            moved.transform(scale, offset);
+            assert_eq!(moved.kind(), light.kind());
+            for _ in 0..200 {
+                let p = Vec3::new(
+                    rng.uniform() * 4.0 - 2.0,
+                    rng.uniform() * 2.0,
+                    rng.uniform() - 0.5,
+                );
+                let li = |l: &Light, p: Vec3| {
+                    l.sample_direct(p, Vec2::ZERO).map_or(Vec3::ZERO, |s| s.li)
+                };
+                let (before, after) = (li(&light, p), li(&moved, p * scale + offset));
+                assert!(
+                    (before - after).abs().max_element() <= 1e-3 * before.max_element() + 1e-6,
+                    "{}: at {p}, scale {scale}: {before} then {after}",
+                    light.name()
+                );
+            }
+        }
+    }
+}
