@@ -89,13 +89,13 @@ impl LightKind {
 /// A light sample for next-event estimation, seen from a shading point.
 #[derive(Clone, Copy, Debug)]
 pub struct DirectSample {
-    /// Point on the light, and its geometric normal (zero for point lights).
+    /// Point on the light, and its geometric normal (zero for delta lights).
     pub p: Vec3,
     pub n: Vec3,
     /// Unit direction from the shading point toward the light, and the distance.
     pub wi: Vec3,
     pub dist: f32,
-    /// Radiance arriving along -wi (for point lights: intensity / dist^2).
+    /// Radiance arriving along -wi (for delta lights: the intensity toward the point / dist^2).
     pub li: Vec3,
     /// Solid-angle pdf of this sample, not counting the choice of the light (1 for delta lights).
     pub pdf: f32,
@@ -106,12 +106,12 @@ pub struct DirectSample {
 #[derive(Clone, Copy, Debug)]
 pub struct EmissionSample {
     pub ray_origin: Vec3,
-    /// Geometric normal at the origin (zero for point lights), for offsetting the ray.
+    /// Geometric normal at the origin (zero for delta lights), for offsetting the ray.
     pub n: Vec3,
     pub dir: Vec3,
     /// Flux weight Le * cos / (p_area * p_dir), not counting the choice of the light.
     pub flux: Vec3,
-    /// Area pdf of the origin (1 for point lights) and solid-angle pdf of the direction.
+    /// Area pdf of the origin (1 for delta lights) and solid-angle pdf of the direction.
     pub pdf_pos: f32,
     pub pdf_dir: f32,
 }
