@@ -8,9 +8,12 @@ mod camera_path;
 mod camera_walk;
 mod direct;
 mod footprint;
+mod light_path;
 mod memory;
 mod path;
+mod photon_sink;
 mod ppm;
+mod radius;
 mod settings;
 mod shading;
 mod snapshot;
@@ -31,10 +34,12 @@ pub use memory::{
     PHOTONS_PER_PATH,
 };
 pub use path::PathTracer;
-pub use ppm::{
-    density_estimate, gather_limit, stores_photons, trace_light_path, GatherContext,
-    PhotonCounters, PhotonSink, PpmRenderer, RadiusSchedule, MAX_LIGHT_PATHS,
+pub use light_path::{
+    stores_photons, trace_light_path, PhotonCounters, MAX_LIGHT_PATHS,
 };
+pub use photon_sink::PhotonSink;
+pub use ppm::{density_estimate, gather_limit, GatherContext, PpmRenderer};
+pub use radius::RadiusSchedule;
 pub use settings::{
     Algorithm, DirectMode, LightStrategy, Radius, RenderSettings, Setting, DEFAULT_PHOTONS,
     MAX_DEPTH,

@@ -15,27 +15,22 @@
 //! own photons or paths would correlate with the estimate it scales and bias it.) Since the
 //! ratio does not depend on p, r_i(p) = r_1(p) s_i with s_i the schedule started at 1.
 //!
-//! One iteration: the photon pass ([`photon_pass`]) fills the shared append buffer, the hash
-//! grid is rebuilt over those photons, the eye pass ([`eye_pass`]) gathers them at the first
-//! diffuse hit of each camera path, the estimate joins the film, and the radius shrinks
-//! ([`radius`]).
+//! One iteration: the photon pass (light paths of [`trace_light_path`]) fills the shared
+//! append buffer, the hash grid is rebuilt over those photons, the eye pass ([`eye_pass`])
+//! gathers them at the first diffuse hit of each camera path, the estimate joins the film,
+//! and the radius shrinks ([`RadiusSchedule`]).
 
 mod eye_pass;
-mod photon_pass;
-mod radius;
 
 pub use eye_pass::{density_estimate, gather_limit, GatherContext};
-pub use photon_pass::{
-    stores_photons, trace_light_path, PhotonCounters, PhotonSink, MAX_LIGHT_PATHS,
-};
-pub use radius::RadiusSchedule;
 
 use super::camera_walk::RayCounters;
 use super::footprint::{pilot_points, pilot_radii, quantile};
 use super::task_order::interleaved;
 use super::{
-    image_bytes, IterationStats, MemoryEstimate, MemoryPart, PassTimes, Radius, RenderSettings,
-    Snapshot, Stopwatch, BYTES_PER_PHOTON, MAX_DEPTH, PHOTONS_PER_PATH,
+    image_bytes, trace_light_path, IterationStats, MemoryEstimate, MemoryPart, PassTimes,
+    PhotonCounters, Radius, RadiusSchedule, RenderSettings, Snapshot, Stopwatch,
+    BYTES_PER_PHOTON, MAX_DEPTH, MAX_LIGHT_PATHS, PHOTONS_PER_PATH,
 };
 use crate::film::{Film, Image};
 use crate::photon::{HashGrid, Kernel, PhotonBuffer};

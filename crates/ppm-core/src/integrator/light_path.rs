@@ -1,19 +1,20 @@
-//! The photon pass (assignment part 6.1): light paths that leave photons on non-specular surfaces.
+//! Light paths that leave photons on non-specular surfaces (assignment part 6.1): the walk
+//! the photon passes of `ppm` and `sppm` share, generic over where the photons go
+//! ([`PhotonSink`]).
 
 use crate::bsdf::{shading_normal_correction, Bsdf, BsdfFlags, TransportMode};
 use crate::geometry::Ray;
 use crate::integrator::shading::ShadingFrame;
-use crate::integrator::{DirectMode, RenderSettings};
+use crate::integrator::{DirectMode, PhotonSink, RenderSettings};
 use crate::light::Light;
-use crate::photon::{Photon, PhotonWriter, BOUNCE_BITS};
+use crate::photon::BOUNCE_BITS;
 use crate::sampling::Rng;
 use crate::scene::Scene;
-use glam::Vec3;
 
 /// Random streams of light paths are kept apart from the eye paths' by this salt.
 pub const PHOTON_STREAM: u64 = 0x7068_6f74_6f6e_7321;
 
-/// Most light paths one iteration can trace (the ordering key, [`Photon::key`], must fit in
+/// Most light paths one iteration can trace (the ordering key, [`crate::photon::Photon::key`], must fit in
 /// 32 bits).
 pub const MAX_LIGHT_PATHS: u32 = 1 << (32 - BOUNCE_BITS);
 
@@ -22,24 +23,6 @@ pub const MAX_LIGHT_PATHS: u32 = 1 << (32 - BOUNCE_BITS);
 pub struct PhotonCounters {
     pub rays: u64,
     pub photons: u64,
-}
-
-/// Where a light path's photons go: stored in a photon buffer (`ppm`) or splatted straight
-/// into the visible points of the camera paths (`sppm`, which never stores them). Generic, so
-/// the light-path walk is written once and dispatched statically.
-pub trait PhotonSink {
-    /// A photon at `position` that arrived from `wi` (unit, pointing away from the surface)
-    /// carrying `flux`, left by light path `path` at its hit number `bounce + 1` (bounce 0: the
-    /// first surface the light reached). The bounce bounds the camera vertices that may
-    /// gather it: no path may have more than max_depth bounces (see [`super::density_estimate`]).
-    fn deposit(&mut self, position: Vec3, wi: Vec3, flux: Vec3, path: u32, bounce: u32);
-}
-
-impl PhotonSink for PhotonWriter<'_> {
-    #[inline]
-    fn deposit(&mut self, position: Vec3, wi: Vec3, flux: Vec3, path: u32, bounce: u32) {
-        self.push(Photon::new(position, wi, flux, Photon::key(path, bounce)));
-    }
 }
 
 /// True where photons are stored: surfaces whose BSDF has a diffuse part, which the eye pass

@@ -1,4 +1,4 @@
-//! The global radius schedule of progressive photon mapping.
+//! The global radius schedule of progressive photon mapping, which ppm, sppm and vcm share.
 
 /// Knaus and Zwicker 2011 (eq. 19): after iteration i (i = 1, 2, ...) the squared radius
 /// shrinks as r_{i+1}^2 = r_i^2 (i + alpha) / (i + 1), alpha in (0, 1).
