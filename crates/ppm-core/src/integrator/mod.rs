@@ -29,14 +29,12 @@ pub use direct::{emission_mis_weight, estimate_direct};
 pub use footprint::{
     footprint_radius, pilot_points, pilot_radii, PilotPoint, FOOTPRINT_PIXELS, PILOT_STREAM,
 };
+pub use light_path::{stores_photons, trace_light_path, PhotonCounters, MAX_LIGHT_PATHS};
 pub use memory::{
     image_bytes, MemoryEstimate, MemoryItem, MemoryPart, BYTES_PER_PHOTON, BYTES_PER_PIXEL,
     PHOTONS_PER_PATH,
 };
 pub use path::PathTracer;
-pub use light_path::{
-    stores_photons, trace_light_path, PhotonCounters, MAX_LIGHT_PATHS,
-};
 pub use photon_sink::PhotonSink;
 pub use ppm::{density_estimate, gather_limit, GatherContext, PpmRenderer};
 pub use radius::RadiusSchedule;
@@ -47,7 +45,7 @@ pub use settings::{
 pub use shading::ShadingFrame;
 pub use snapshot::{PixelChannel, Snapshot};
 pub use sppm::{PixelStatistics, SplatPoint, SppmRenderer};
-pub use vcm::VcmRenderer;
+pub use vcm::{Techniques, VcmRenderer};
 
 use crate::film::Image;
 use crate::pixel_bounds::PixelBounds;

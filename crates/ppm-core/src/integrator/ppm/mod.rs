@@ -29,8 +29,8 @@ use super::footprint::{pilot_points, pilot_radii, quantile};
 use super::task_order::interleaved;
 use super::{
     image_bytes, trace_light_path, IterationStats, MemoryEstimate, MemoryPart, PassTimes,
-    PhotonCounters, Radius, RadiusSchedule, RenderSettings, Snapshot, Stopwatch,
-    BYTES_PER_PHOTON, MAX_DEPTH, MAX_LIGHT_PATHS, PHOTONS_PER_PATH,
+    PhotonCounters, Radius, RadiusSchedule, RenderSettings, Snapshot, Stopwatch, BYTES_PER_PHOTON,
+    MAX_DEPTH, MAX_LIGHT_PATHS, PHOTONS_PER_PATH,
 };
 use crate::film::{Film, Image};
 use crate::photon::{HashGrid, Kernel, PhotonBuffer};

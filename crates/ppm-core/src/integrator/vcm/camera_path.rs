@@ -43,6 +43,8 @@ struct CameraVertex<'v> {
     state: &'v SubpathMis,
     /// Edges from the camera to this vertex (1 at the first hit).
     edges: u32,
+    /// Every vertex before this one was a delta lobe.
+    specular_path: bool,
 }
 
 impl CameraPass<'_> {
@@ -50,7 +52,8 @@ impl CameraPass<'_> {
     /// camera subpath through a uniform point of the pixel, paired with light subpath
     /// `pixel`. Camera subpaths scatter by BSDF sampling in radiance mode with the path
     /// tracer's Russian roulette (after `rr_depth` bounces, survival min(1, max channel of the
-    /// throughput)).
+    /// throughput)). The technique set decides what runs at each vertex; light tracing alone
+    /// ends the subpath at its first non-delta vertex.
     pub fn pixel(&self, pixel: usize, counters: &mut RayCounters) -> Vec3 {
         let scene = self.scene;
         let camera = &scene.camera;
@@ -68,6 +71,9 @@ impl CameraPass<'_> {
         let mut throughput = Vec3::ONE;
         let mut result = Vec3::ZERO;
         let mut edges = 0;
+        // Every vertex so far was a delta lobe (see `mis::emission_weight`).
+        let mut specular_path = true;
+        let techniques = c.techniques;
         while edges < self.max_edges {
             counters.rays += 1;
             let Some(hit) = scene.intersect(&ray) else {
@@ -83,14 +89,23 @@ impl CameraPass<'_> {
                 v: &v,
                 state: &state,
                 edges,
+                specular_path,
             };
             if material.is_emissive() && v.wo.dot(hit.ng) > 0.0 {
                 result += throughput * material.emission * self.emission_weight(&x);
             }
             if !v.bsdf.is_delta() {
-                result += throughput * self.direct(&x, &mut rng, counters);
-                result += throughput * self.connect(&x, pixel, counters);
-                result += throughput * self.merge(&x);
+                if !techniques.extends_camera_paths() {
+                    // Light tracing alone: the light subpaths carry every path from here on.
+                    break;
+                }
+                if techniques.connection() {
+                    result += throughput * self.direct(&x, &mut rng, counters);
+                    result += throughput * self.connect(&x, pixel, counters);
+                }
+                if techniques.merging() {
+                    result += throughput * self.merge(&x);
+                }
             }
             if edges + 1 > self.max_edges {
                 break;
@@ -110,6 +125,7 @@ impl CameraPass<'_> {
                 v.bsdf.pdf(s.wi, v.sf.wo)
             };
             state.scatter(specular, s.wi.z.abs(), s.pdf, pdf_reverse, c);
+            specular_path &= specular;
             throughput *= s.weight;
             if edges >= self.rr_depth {
                 let survive = throughput.max_element().min(1.0);
@@ -128,6 +144,7 @@ impl CameraPass<'_> {
     /// produced the emitting vertex x_k by choosing the light and its point (area pdf
     /// p_A = p_light / A: next-event estimation) or by emitting toward x_{k-1} (p_A p_W with
     /// p_W = cos/pi), so w_camera = mis(p_A) dVCM + mis(p_A p_W) dVC, weight 1 / (1 + w_camera).
+    /// Without connections, 1 on a purely specular camera subpath and 0 otherwise.
     #[inline]
     fn emission_weight(&self, x: &CameraVertex) -> f32 {
         if x.edges == 1 {
@@ -138,7 +155,13 @@ impl CameraPass<'_> {
             return 1.0;
         };
         let (pdf_pos, pdf_dir) = light.pdf_emission(hit.ng, x.v.wo);
-        emission_weight(x.state, p_light * pdf_pos, pdf_dir)
+        emission_weight(
+            x.state,
+            p_light * pdf_pos,
+            pdf_dir,
+            x.specular_path,
+            &self.mis,
+        )
     }
 
     /// Next-event estimation, a vertex connection to a light (TR eqs. 44-45): one light

@@ -34,8 +34,8 @@ pub(super) struct LightPathParams {
     pub bounds: PixelBounds,
 }
 
-/// Traces light subpath `path`: appends its stored vertices to `vertices` and its connections
-/// to the camera to `splats`.
+/// Traces light subpath `path`: appends its stored vertices to `vertices` (if the technique
+/// set connects or merges) and its connections to the camera to `splats` (if it traces light).
 ///
 /// The subpath starts as the photon pass's does (a light chosen in proportion to power, a
 /// point uniform on it, a cosine-weighted direction; a uniform one for point lights): the
@@ -103,8 +103,12 @@ pub(super) fn trace_light_subpath(
                 mis: state,
                 edges,
             };
-            vertices.push(stored);
-            connect_to_camera(scene, params, &stored, splats, counters);
+            if c.techniques.stores_light_vertices() {
+                vertices.push(stored);
+            }
+            if c.techniques.light_tracing() {
+                connect_to_camera(scene, params, &stored, splats, counters);
+            }
         }
         let (u_lobe, u) = (rng.uniform(), rng.uniform2());
         let Some(s) = bsdf.sample(v.sf.wo, u_lobe, u, TransportMode::Importance) else {

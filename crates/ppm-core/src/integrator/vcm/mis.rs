@@ -20,10 +20,23 @@
 //! and n_VM = N_light): merging's pdf is that of connecting, times the probability pi r^2 p_A
 //! that a light vertex lands in the disc, times the N_light light paths of an iteration.
 //!
+//! Technique sets ([`Techniques`], SmallVCM's algorithms): a set without merging weighs it at
+//! zero, mis(eta_VCM) -> 0 (the merge term of every connection-side sum: dVC and the
+//! connection weights); a set without connections weighs them at zero, mis(1/eta_VCM) -> 0 (the
+//! connection terms of every merge-side sum: dVM and the merge weights, the emission included,
+//! whose ratio the light subpath carries in dVC and hands to dVM through the same factor).
+//! The recursions are otherwise unchanged, so each weight is the power heuristic over exactly
+//! the set's techniques. Two cases have no recursive form and are set explicitly: without
+//! connections, the emission a camera subpath finds is weighted 1 while every vertex before
+//! it was a delta lobe (nothing else samples it) and 0 otherwise (merging or light tracing
+//! does), and light tracing without connections is the only technique of its paths (weight 1).
+//!
 //! Russian roulette and the path-length bound are left out of the pdfs: any weights that sum
 //! to one over the techniques which can produce a path keep the estimator unbiased, and the
 //! length bound removes no technique from a path of at most `max_depth + 1` edges (each
 //! subpath may grow to that length).
+
+use super::techniques::Techniques;
 
 /// The power heuristic's exponent (beta = 2), as SmallVCM uses by default.
 const BETA: i32 = 2;
@@ -34,30 +47,45 @@ pub(super) fn mis(x: f32) -> f32 {
     x.powi(BETA)
 }
 
-/// The per-iteration constants: eta_VCM and the estimator's normalisation.
+/// The per-iteration constants: eta_VCM, the estimator's normalisation and the technique set.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct MisConstants {
-    /// mis(eta_VCM), eta_VCM = pi r^2 N_light: how merging weighs against connecting.
+    /// mis(eta_VCM), eta_VCM = pi r^2 N_light: how merging weighs against connecting (0
+    /// without merging: SmallVCM's mMisVmWeightFactor).
     pub vm_weight: f32,
-    /// mis(1 / eta_VCM).
+    /// mis(1 / eta_VCM): how connecting weighs against merging (0 without connections or
+    /// without merging, where no merge-side sum is read: mMisVcWeightFactor).
     pub vc_weight: f32,
     /// 1 / (pi r^2 N_light): the density estimate's normalisation (uniform kernel over the disc
-    /// of radius r, averaged over the N_light light paths).
+    /// of radius r, averaged over the N_light light paths); 0 without merging.
     pub vm_normalization: f32,
     /// N_light, light subpaths per iteration.
     pub light_paths: f32,
+    pub techniques: Techniques,
 }
 
 impl MisConstants {
-    /// The constants for merge radius `radius` (> 0) and `light_paths` light subpaths.
-    pub fn new(radius: f32, light_paths: u32) -> Self {
+    /// The constants of `techniques` for merge radius `radius` (> 0; read only with merging)
+    /// and `light_paths` light subpaths.
+    pub fn new(techniques: Techniques, radius: f32, light_paths: u32) -> Self {
         let n = light_paths as f32;
-        let eta = std::f32::consts::PI * radius * radius * n;
+        let (vm_weight, vc_weight, vm_normalization) = if techniques.merging() {
+            let eta = std::f32::consts::PI * radius * radius * n;
+            let vc_weight = if techniques.connection() {
+                mis(1.0 / eta)
+            } else {
+                0.0
+            };
+            (mis(eta), vc_weight, 1.0 / eta)
+        } else {
+            (0.0, 0.0, 0.0)
+        };
         MisConstants {
-            vm_weight: mis(eta),
-            vc_weight: mis(1.0 / eta),
-            vm_normalization: 1.0 / eta,
+            vm_weight,
+            vc_weight,
+            vm_normalization,
             light_paths: n,
+            techniques,
         }
     }
 }
@@ -173,12 +201,21 @@ impl SubpathMis {
 /// the light subpaths choose x_0 (p_light p_A) and `emission_pdf_dir` the light's pdf of
 /// emitting toward the camera subpath's previous vertex: w_camera = mis(p_A) dVCM +
 /// mis(p_A p_W) dVC, w = 1 / (1 + w_camera).
+///
+/// Without connections (`bpm`, `lt`): 1 if every camera vertex before x_0 was a delta lobe
+/// (`specular_path`: no merge or light-tracing technique can end at such a vertex), else 0
+/// (the set's other techniques sample the path; SmallVCM's GetLightRadiance does the same).
 #[inline]
 pub(super) fn emission_weight(
     camera: &SubpathMis,
     direct_pdf_area: f32,
     emission_pdf_dir: f32,
+    specular_path: bool,
+    c: &MisConstants,
 ) -> f32 {
+    if !c.techniques.connection() {
+        return if specular_path { 1.0 } else { 0.0 };
+    }
     let w_camera =
         mis(direct_pdf_area) * camera.dvcm + mis(direct_pdf_area * emission_pdf_dir) * camera.dvc;
     1.0 / (1.0 + w_camera)
@@ -253,7 +290,8 @@ pub(super) fn merge_weight(
 /// finds y with area pdf `camera_pdf_area` (p_cam |cos_y| / d^2) out of N_light tries, and
 /// `pdf_reverse` is y's pdf of the direction back along the light subpath given the camera's.
 /// w_light = mis(p_cam |cos_y| / (d^2 N_light)) (mis(eta_VCM) + dVCM + dVC mis(p_rev)); the
-/// camera subpath has no other vertex, w = 1 / (w_light + 1).
+/// camera subpath has no other vertex, w = 1 / (w_light + 1). Without connections (`lt`) the
+/// path has no other technique: w = 1.
 #[inline]
 pub(super) fn light_tracing_weight(
     light: &SubpathMis,
@@ -261,6 +299,9 @@ pub(super) fn light_tracing_weight(
     pdf_reverse: f32,
     c: &MisConstants,
 ) -> f32 {
+    if !c.techniques.connection() {
+        return 1.0;
+    }
     let w_light = light.connected(camera_pdf_area / c.light_paths, pdf_reverse, c);
     1.0 / (w_light + 1.0)
 }
@@ -288,9 +329,9 @@ mod tests {
         light_area: f32,
         emission_dir: f32,
         camera: f32,
-        /// A vertex x_m (0 < m < k) with a delta lobe (a mirror), if any: its forward and
-        /// reverse pdfs are the same discrete probability, and no technique ends there.
-        delta: Option<usize>,
+        /// delta[m]: x_m (0 < m < k) has a delta lobe (a mirror): its forward and reverse pdfs
+        /// are the same discrete probability, and no technique ends there.
+        delta: Vec<bool>,
     }
 
     impl Path {
@@ -299,10 +340,19 @@ mod tests {
             let mut list = |lo, hi| (0..=k).map(|_| value(lo, hi)).collect::<Vec<f32>>();
             let (d, toward_light, toward_camera) = (list(0.3, 3.0), list(0.1, 1.0), list(0.1, 1.0));
             let (mut forward, reverse) = (list(0.05, 2.0), list(0.05, 2.0));
-            let delta = (k >= 3 && value(0.0, 1.0) < 0.5)
-                .then(|| 1 + (value(0.0, 1.0) * (k - 1) as f32) as usize);
-            if let Some(m) = delta {
-                forward[m] = reverse[m];
+            // Half of the paths of 3 or more edges get one mirror vertex; a sixth of all paths
+            // are mirrors from end to end (a light seen in a chain of mirrors).
+            let mut delta = vec![false; k + 1];
+            let (one, chain) = (value(0.0, 1.0), value(0.0, 1.0));
+            if k >= 3 && one < 0.5 {
+                delta[1 + (value(0.0, 1.0) * (k - 1) as f32) as usize] = true;
+            } else if chain < 1.0 / 6.0 {
+                delta[1..k].fill(true);
+            }
+            for m in 1..k {
+                if delta[m] {
+                    forward[m] = reverse[m];
+                }
             }
             Path {
                 k,
@@ -320,7 +370,24 @@ mod tests {
 
         /// True if x_j has a delta lobe.
         fn is_delta(&self, j: usize) -> bool {
-            self.delta == Some(j)
+            self.delta[j]
+        }
+
+        /// True if every vertex between the light and the camera has a delta lobe.
+        fn all_delta(&self) -> bool {
+            (1..self.k).all(|j| self.delta[j])
+        }
+
+        /// Whether technique `t` (in the order of [`Path::technique_pdfs`]) belongs to the
+        /// set `techniques`: without connections, emission only on a path of mirrors.
+        fn in_set(&self, t: usize, techniques: Techniques) -> bool {
+            let k = self.k;
+            match t {
+                0 => techniques.connection() || self.all_delta(),
+                t if t < k => techniques.connection(),
+                t if t == k => techniques.light_tracing(),
+                _ => techniques.merging(),
+            }
         }
 
         /// Area pdf of x_j sampled by the light subpath (from x_{j-1}), j < k.
@@ -368,7 +435,9 @@ mod tests {
         }
 
         /// The weights the estimators give each technique of `technique_pdfs`, from the
-        /// subpaths' recursive quantities.
+        /// subpaths' recursive quantities with the constants `c` of a technique set; `None`
+        /// for a technique that ends a subpath at a delta vertex or that the set's kernels do
+        /// not run (all but the emission, which the camera subpath always finds).
         #[allow(clippy::needless_range_loop)] // j indexes the path's arrays and the states
         fn weights(&self, c: &MisConstants) -> Vec<Option<f32>> {
             let k = self.k;
@@ -410,6 +479,8 @@ mod tests {
                 &camera[0],
                 self.light_area,
                 self.emission_dir,
+                self.all_delta(),
+                c,
             )));
             // s = 1: next-event estimation at x_1.
             let d0 = self.d[0];
@@ -456,6 +527,11 @@ mod tests {
                     merge_weight(&light[i], &camera[i], self.reverse[i], self.forward[i], c)
                 }));
             }
+            for (t, w) in weights.iter_mut().enumerate().skip(1) {
+                if !self.in_set(t, c.techniques) {
+                    *w = None;
+                }
+            }
             weights
         }
     }
@@ -463,55 +539,93 @@ mod tests {
     /// The recursive weights (dVCM, dVC, dVM and the five estimators' formulas) equal the
     /// power heuristic over every technique's pdf written out as a product of the path's
     /// area pdfs, technique by technique, on random paths of 2 to 7 edges (half of those of
-    /// 3 or more with a mirror vertex), so they sum to one: the estimator is unbiased whatever
-    /// the radius and the number of light paths.
+    /// 3 or more with a mirror vertex, a sixth of all mirrors from end to end), so they sum
+    /// to one: the estimator is unbiased whatever the radius and the number of light paths.
+    /// The same holds for each technique set (`bpt`, `bpm`, `lt`) over exactly its own
+    /// techniques, with the constants it zeroes; only light tracing alone leaves paths
+    /// without a technique (a surface seen in a mirror), and it gives them no weight.
     #[test]
     fn recursive_weights_equal_the_power_heuristic_over_all_techniques() {
         let mut rng = Rng::new(5, 0, 0);
-        // Techniques of each kind (emission, next-event, connection, light tracing, merging)
-        // that carried a weight between 5% and 95% somewhere: the test compares real mixtures.
-        let mut mixed = [0usize; 5];
-        let mut deltas = 0;
-        for case in 0..600 {
+        // Per set, techniques of each kind (emission, next-event, connection, light tracing,
+        // merging) that carried a weight between 5% and 95% somewhere: the test compares real
+        // mixtures. The kinds a set mixes: all for vcm, its connections for bpt, merges for
+        // bpm, none for lt (one technique per path).
+        let mixes: [&[usize]; 4] = [&[0, 1, 2, 3, 4], &[0, 1, 2, 3], &[4], &[]];
+        let mut mixed = [[0usize; 5]; 4];
+        let (mut deltas, mut chains, mut uncovered) = (0, 0, 0);
+        for case in 0..1200 {
             let k = 2 + case % 6;
             let path = Path::random(k, &mut rng);
             let (radius, n) = ([0.01, 0.05, 0.3][case % 3], [100.0, 4096.0][case % 2]);
-            let c = MisConstants::new(radius, n as u32);
-            let pdfs = path.technique_pdfs(radius, n);
-            let total: f64 = pdfs.iter().flatten().map(|p| p * p).sum();
-            let weights = path.weights(&c);
-            assert_eq!(weights.len(), pdfs.len());
-            deltas += path.delta.is_some() as usize;
-            for (t, (&w, &p)) in weights.iter().zip(&pdfs).enumerate() {
-                let (w, p) = match (w, p) {
-                    (Some(w), Some(p)) => (w, p),
-                    (None, None) => continue,
-                    _ => panic!("case {case}: technique {t} is available to one side only"),
-                };
-                let expected = p * p / total;
-                let kind = match t {
-                    0 => 0,
-                    1 => 1,
-                    t if t < k => 2,
-                    t if t == k => 3,
-                    _ => 4,
-                };
-                mixed[kind] += (0.05..0.95).contains(&expected) as usize;
+            deltas += path.delta.contains(&true) as usize;
+            chains += path.all_delta() as usize;
+            let all_pdfs = path.technique_pdfs(radius, n);
+            for (set, techniques) in Techniques::ALL.into_iter().enumerate() {
+                let c = MisConstants::new(techniques, radius, n as u32);
+                let pdfs: Vec<Option<f64>> = (0..all_pdfs.len())
+                    .map(|t| all_pdfs[t].filter(|_| path.in_set(t, techniques)))
+                    .collect();
+                let total: f64 = pdfs.iter().flatten().map(|p| p * p).sum();
+                let weights = path.weights(&c);
+                assert_eq!(weights.len(), pdfs.len());
+                let name = techniques.name();
+                for (t, (&w, &p)) in weights.iter().zip(&pdfs).enumerate() {
+                    let (w, expected) = match (w, p) {
+                        (Some(w), Some(p)) => (w, p * p / total),
+                        (None, None) => continue,
+                        // The emission of a path the set samples otherwise: weight 0.
+                        (Some(w), None) if t == 0 && all_pdfs[0].is_some() => (w, 0.0),
+                        _ => panic!(
+                            "{name}, case {case}: technique {t} is available to one side only"
+                        ),
+                    };
+                    let kind = match t {
+                        0 => 0,
+                        1 => 1,
+                        t if t < k => 2,
+                        t if t == k => 3,
+                        _ => 4,
+                    };
+                    mixed[set][kind] += (0.05..0.95).contains(&expected) as usize;
+                    assert!(
+                        (w as f64 - expected).abs() <= 1e-4 * expected.max(1e-3),
+                        "{name}, case {case}, k = {k}, technique {t}: {w} against {expected}"
+                    );
+                }
+                let sum: f64 = weights.iter().flatten().map(|&w| w as f64).sum();
+                if total == 0.0 {
+                    assert_eq!(
+                        techniques,
+                        Techniques::LT,
+                        "case {case}: {name} misses a path"
+                    );
+                    assert_eq!(
+                        sum, 0.0,
+                        "lt, case {case}: a path without a technique counted"
+                    );
+                    uncovered += 1;
+                    continue;
+                }
                 assert!(
-                    (w as f64 - expected).abs() <= 1e-4 * expected.max(1e-3),
-                    "case {case}, k = {k}, technique {t}: {w} against {expected}"
+                    (sum - 1.0).abs() < 1e-4,
+                    "{name}, case {case}: the weights sum to {sum}"
                 );
             }
-            let sum: f64 = weights.iter().flatten().map(|&w| w as f64).sum();
+        }
+        for (set, kinds) in mixes.iter().enumerate() {
+            let name = Techniques::ALL[set].name();
             assert!(
-                (sum - 1.0).abs() < 1e-4,
-                "case {case}: the weights sum to {sum}"
+                kinds.iter().all(|&kind| mixed[set][kind] >= 20),
+                "{name}: too few mixed weights: {:?}",
+                mixed[set]
             );
         }
+        assert!(deltas > 300, "too few paths with a delta vertex: {deltas}");
+        assert!(chains > 100, "too few paths of mirrors only: {chains}");
         assert!(
-            mixed.iter().all(|&m| m >= 20),
-            "too few mixed weights: {mixed:?}"
+            uncovered > 50,
+            "too few paths light tracing misses: {uncovered}"
         );
-        assert!(deltas > 100, "too few paths with a delta vertex: {deltas}");
     }
 }

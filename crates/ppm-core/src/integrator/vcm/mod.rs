@@ -24,11 +24,18 @@
 //! pixels' footprint radii ([`pilot_radii`]): VCM merges at every non-delta camera vertex,
 //! not only the first, so it needs one radius for the whole grid. `--photons` is not used:
 //! the light subpaths are one per pixel, as in the paper and SmallVCM.
+//!
+//! The same code renders SmallVCM's other algorithms as subsets of these techniques
+//! ([`Techniques`]: `bpt`, `bpm`, `lt`), each with MIS weights over exactly its set; a set
+//! without merging builds no grid and uses no radius.
 
 mod camera_path;
 mod light_path;
 mod mis;
+mod techniques;
 mod vertex;
+
+pub use techniques::Techniques;
 
 use super::camera_walk::RayCounters;
 use super::footprint::{pilot_radii, quantile};
@@ -75,6 +82,7 @@ struct LightTask {
 /// The render state of vertex connection and merging.
 pub struct VcmRenderer {
     settings: RenderSettings,
+    techniques: Techniques,
     film: Film,
     /// The pixels rendered (the whole image unless cropped); light subpaths are traced for
     /// the whole image either way, keyed by their index, so a crop changes no pixel.
@@ -102,8 +110,17 @@ impl VcmRenderer {
     /// A fresh render of the pixels in `bounds` (see [`PixelBounds`]); `max_depth` is clamped
     /// to [`MAX_DEPTH`].
     pub fn with_bounds(settings: RenderSettings, bounds: PixelBounds) -> Self {
+        Self::with_techniques(settings, bounds, Techniques::VCM)
+    }
+
+    /// [`VcmRenderer::with_bounds`] with the technique set `techniques` (`bpt`, `bpm`, `lt`).
+    pub fn with_techniques(
+        settings: RenderSettings,
+        bounds: PixelBounds,
+        techniques: Techniques,
+    ) -> Self {
         let film = Film::new(bounds.width(), bounds.height());
-        Self::with_film(settings, bounds, film)
+        Self::with_film(settings, bounds, film, techniques)
     }
 
     /// A render continuing from `snapshot` (whole images only): like the path tracer, VCM
@@ -115,9 +132,30 @@ impl VcmRenderer {
         settings: RenderSettings,
         snapshot: Snapshot,
     ) -> Result<Self, StateError> {
+        Self::from_snapshot_with_techniques(scene, settings, snapshot, Techniques::VCM)
+    }
+
+    /// [`VcmRenderer::from_snapshot`] with the technique set `techniques`, which must be the
+    /// one the snapshot was rendered with (the film does not record it).
+    pub fn from_snapshot_with_techniques(
+        scene: &Scene,
+        settings: RenderSettings,
+        snapshot: Snapshot,
+        techniques: Techniques,
+    ) -> Result<Self, StateError> {
         let (w, h) = (scene.camera.width, scene.camera.height);
         let film = snapshot.into_film(w, h)?;
-        Ok(Self::with_film(settings, PixelBounds::full(w, h), film))
+        Ok(Self::with_film(
+            settings,
+            PixelBounds::full(w, h),
+            film,
+            techniques,
+        ))
+    }
+
+    /// The technique set this render uses.
+    pub fn techniques(&self) -> Techniques {
+        self.techniques
     }
 
     /// What [`VcmRenderer::from_snapshot`] needs to continue: the film.
@@ -125,7 +163,12 @@ impl VcmRenderer {
         Snapshot::of_film(&self.film)
     }
 
-    fn with_film(settings: RenderSettings, bounds: PixelBounds, film: Film) -> Self {
+    fn with_film(
+        settings: RenderSettings,
+        bounds: PixelBounds,
+        film: Film,
+        techniques: Techniques,
+    ) -> Self {
         let mut settings = settings;
         settings.max_depth = settings.max_depth.min(MAX_DEPTH);
         let start = match settings.radius {
@@ -140,6 +183,7 @@ impl VcmRenderer {
             auto_radius: None,
             last_radius: None,
             settings,
+            techniques,
             film,
             bounds,
             vertices: Vec::new(),
@@ -156,7 +200,18 @@ impl VcmRenderer {
     /// `height` image: the per-pixel buffers and the splat sums, and the light vertices (with
     /// their grid records) for [`PHOTONS_PER_PATH`] vertices per light subpath, one subpath per
     /// pixel (a lower bound: scenes with longer light subpaths store more).
-    pub fn memory_estimate(width: u32, height: u32, _settings: &RenderSettings) -> MemoryEstimate {
+    pub fn memory_estimate(width: u32, height: u32, settings: &RenderSettings) -> MemoryEstimate {
+        Self::memory_estimate_with_techniques(width, height, settings, Techniques::VCM)
+    }
+
+    /// [`VcmRenderer::memory_estimate`] for the technique set `techniques`: light tracing
+    /// alone stores no light vertices.
+    pub fn memory_estimate_with_techniques(
+        width: u32,
+        height: u32,
+        _settings: &RenderSettings,
+        techniques: Techniques,
+    ) -> MemoryEstimate {
         let pixels = width as u64 * height as u64;
         // The splat sums, and each light path's first vertex index.
         let per_pixel = (std::mem::size_of::<[u128; 3]>() + std::mem::size_of::<u32>()) as u64;
@@ -165,12 +220,14 @@ impl VcmRenderer {
             MemoryPart::Image,
             image_bytes(width, height).saturating_add(pixels.saturating_mul(per_pixel)),
         );
-        estimate.add(
-            MemoryPart::Photons,
-            pixels
-                .saturating_mul(PHOTONS_PER_PATH as u64)
-                .saturating_mul(BYTES_PER_LIGHT_VERTEX),
-        );
+        if techniques.stores_light_vertices() {
+            estimate.add(
+                MemoryPart::Photons,
+                pixels
+                    .saturating_mul(PHOTONS_PER_PATH as u64)
+                    .saturating_mul(BYTES_PER_LIGHT_VERTEX),
+            );
+        }
         estimate
     }
 
@@ -244,16 +301,21 @@ impl VcmRenderer {
         stop: &F,
     ) -> Option<IterationStats> {
         let iteration = self.film.next_iteration();
-        if !self.schedule.advance_to(iteration + 1, stop) {
+        let merging = self.techniques.merging();
+        if merging && !self.schedule.advance_to(iteration + 1, stop) {
             return None;
         }
         let mut passes = PassTimes::default();
         let mut clock = Stopwatch::start();
         let mut pilot = RayCounters::default();
-        let radius = self.radius(scene, &mut pilot);
+        let radius = if merging {
+            self.radius(scene, &mut pilot)
+        } else {
+            0.0
+        };
         let camera = &scene.camera;
         let light_paths = camera.width * camera.height;
-        let mis = MisConstants::new(radius, light_paths);
+        let mis = MisConstants::new(self.techniques, radius, light_paths);
         let max_edges = self.settings.max_depth + 1;
         let params = LightPathParams {
             seed: self.settings.seed,
@@ -263,7 +325,7 @@ impl VcmRenderer {
             bounds: self.bounds,
         };
         passes.eye = clock.lap();
-        if self.path_start.capacity() == 0 {
+        if self.path_start.capacity() == 0 && self.techniques.stores_light_vertices() {
             // What the memory estimate states; grown when a scene stores more vertices.
             let paths = light_paths as usize;
             self.path_start.reserve_exact(paths + 1);
@@ -273,22 +335,9 @@ impl VcmRenderer {
         }
         let light = self.light_pass(scene, &params, light_paths, stop)?;
         passes.photon = clock.lap();
-        self.records.clear();
-        self.records.extend(
-            self.vertices
-                .iter()
-                .enumerate()
-                .map(|(i, y)| Photon::new(y.vertex.hit.p, y.vertex.wo, y.throughput, i as u32)),
-        );
-        self.grid.build(&self.records, radius);
-        self.merge_vertices.clear();
-        let vertices = &self.vertices;
-        self.merge_vertices.par_extend(
-            self.grid
-                .photons()
-                .par_iter()
-                .map(|photon| MergeVertex::of(&vertices[photon.path as usize])),
-        );
+        if merging {
+            self.build_grid(radius);
+        }
         passes.grid = clock.lap();
 
         let pass = CameraPass {
@@ -332,8 +381,10 @@ impl VcmRenderer {
         self.film.count_rejected(self.splats.rejected());
         self.film.add_iteration(&self.estimates);
         passes.film = clock.lap();
-        self.schedule.advance();
-        self.last_radius = Some(radius);
+        if merging {
+            self.schedule.advance();
+            self.last_radius = Some(radius);
+        }
         Some(IterationStats {
             rays: eye.rays + light.rays + pilot.rays,
             photon_rays: light.rays,
@@ -346,6 +397,27 @@ impl VcmRenderer {
         })
     }
 
+    /// The hash grid over the iteration's light vertices for merge radius `radius`, and what
+    /// merging reads of them in the grid's order.
+    fn build_grid(&mut self, radius: f32) {
+        self.records.clear();
+        self.records.extend(
+            self.vertices
+                .iter()
+                .enumerate()
+                .map(|(i, y)| Photon::new(y.vertex.hit.p, y.vertex.wo, y.throughput, i as u32)),
+        );
+        self.grid.build(&self.records, radius);
+        self.merge_vertices.clear();
+        let vertices = &self.vertices;
+        self.merge_vertices.par_extend(
+            self.grid
+                .photons()
+                .par_iter()
+                .map(|photon| MergeVertex::of(&vertices[photon.path as usize])),
+        );
+    }
+
     /// The per-pixel estimates of the last iteration alone (row-major), splats included.
     pub fn last_estimates(&self) -> &[Vec3] {
         &self.estimates
@@ -356,7 +428,8 @@ impl VcmRenderer {
         &self.film
     }
 
-    /// The merge radius of the last iteration (`None` before the first).
+    /// The merge radius of the last iteration (`None` before the first, and for technique sets
+    /// without merging).
     pub fn last_radius(&self) -> Option<f32> {
         self.last_radius
     }
