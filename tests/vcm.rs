@@ -53,7 +53,9 @@ fn vcm_converges_to_the_path_traced_image_on_every_scene() {
 }
 
 /// Per scene (in the order of [`SCENES`], all at 24 x 20 pixels): path-traced iterations of
-/// the reference, and iterations of `bpt`, `bpm` and `lt`.
+/// the reference, and iterations of `bpt`, `bpm` and `lt`. Measured standard errors of the
+/// image means, relative: pt 0.15-0.3%, bpt 0.4%, lt 0.25-0.3% (so the 1% bound is 2 to 3
+/// standard errors of the difference), bpm's difference on its pixels 0.7-1.0%.
 const SET_CASES: [(u32, [u32; 3]); 4] = [
     (4000, [2000, 2000, 4000]),
     (16_000, [2000, 2000, 4000]),
