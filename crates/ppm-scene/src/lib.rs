@@ -22,9 +22,12 @@ mod content_hash;
 mod error;
 mod light_area;
 mod light_placement;
+pub mod mitsuba;
 pub mod mtl;
 mod nesting;
 pub mod obj;
+pub mod ply;
+pub mod serialized;
 mod values;
 mod yaml;
 
@@ -44,9 +47,19 @@ pub struct LoadedScene {
     pub content_hash: u64,
 }
 
-/// Loads a scene file (scene format v1) and builds the scene (BVH, lights).
+/// Loads a scene file (scene format v1, or a Mitsuba XML scene) and builds the scene (BVH,
+/// lights).
 pub fn load_scene(path: &Path) -> Result<LoadedScene, LoadError> {
-    let (builder, mut warnings) = load_scene_builder(path)?;
+    load_scene_with_defines(path, &[])
+}
+
+/// Like [`load_scene`], with `defines` (name, value) setting a Mitsuba scene's `$name`
+/// parameters over its `<default>`s (a YAML scene has none: they are ignored).
+pub fn load_scene_with_defines(
+    path: &Path,
+    defines: &[(String, String)],
+) -> Result<LoadedScene, LoadError> {
+    let (builder, mut warnings) = load_scene_builder_with_defines(path, defines)?;
     let content_hash = content_hash(&builder);
     let emissive = light_area::emissive_triangles(&builder);
     let scene = builder.build().map_err(|source| LoadError::Scene {
@@ -91,6 +104,29 @@ pub fn load_scene(path: &Path) -> Result<LoadedScene, LoadError> {
 /// Reads and checks a scene file and the meshes it references, without building the BVH:
 /// the scene's parts and the warnings met on the way.
 pub fn load_scene_builder(path: &Path) -> Result<(SceneBuilder, Vec<String>), LoadError> {
+    load_scene_builder_with_defines(path, &[])
+}
+
+/// Like [`load_scene_builder`] with Mitsuba `$name` parameters. The importer is chosen by the
+/// extension: `.xml` is a Mitsuba scene (`docs/mitsuba.md`), anything else scene format v1.
+pub fn load_scene_builder_with_defines(
+    path: &Path,
+    defines: &[(String, String)],
+) -> Result<(SceneBuilder, Vec<String>), LoadError> {
+    let extension = path
+        .extension()
+        .map(|e| e.to_string_lossy().to_ascii_lowercase());
+    match extension.as_deref() {
+        Some("xml") => return mitsuba::load_mitsuba(path, defines),
+        Some("ply") | Some("serialized") => {
+            return Err(LoadError::invalid(
+                path,
+                "file",
+                "a mesh, not a scene: name it from a Mitsuba scene (<shape type=\"ply\"> or \"serialized\") or a YAML scene",
+            ))
+        }
+        _ => {}
+    }
     let text = obj::read_text(path, "scene file")?;
     parse_scene(&text, path)
 }

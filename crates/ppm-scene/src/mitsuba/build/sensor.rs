@@ -1,0 +1,236 @@
+//! The sensor (`perspective`), its film (`hdrfilm`) and sampler, and the integrator (`path`,
+//! `volpath`), mapped to ppm's pinhole camera and render defaults.
+
+use super::unsupported;
+use crate::mitsuba::props::Props;
+use crate::mitsuba::tree::SceneTree;
+use crate::LoadError;
+use glam::DVec3;
+use ppm_core::camera::Camera;
+use ppm_core::integrator::MAX_DEPTH;
+
+/// Mitsuba's default film size.
+const DEFAULT_FILM: (i64, i64) = (768, 576);
+
+/// ppm's camera from a `<sensor type="perspective">`: the position, view direction and up
+/// vector its `to_world` gives the camera's origin and +z and +y axes, and the vertical field
+/// of view its `fov` and `fov_axis` (or `focal_length`) give for the film's aspect ratio.
+pub fn camera(
+    tree: &SceneTree,
+    index: usize,
+    warnings: &mut Vec<String>,
+) -> Result<Camera, LoadError> {
+    let p = Props::new(tree, index);
+    if p.object.plugin != "perspective" {
+        return Err(unsupported(&tree.objects[index]));
+    }
+    let films = p.objects("film");
+    let (width, height) = match films.first() {
+        Some(&film) => film_size(tree, film, warnings)?,
+        None => (DEFAULT_FILM.0 as u32, DEFAULT_FILM.1 as u32),
+    };
+    for sampler in p.objects("sampler") {
+        let s = Props::new(tree, sampler);
+        s.ignore(&["seed"]);
+        if let Some(n) = s.integer_opt("sample_count")? {
+            warnings.push(format!(
+                "{}: sampler `{}`: sample_count {n} is not used: ppm's -n sets the iterations, and its sampling is its own",
+                s.location(),
+                s.object.plugin
+            ));
+        }
+        s.finish()?;
+    }
+    let aspect = width as f64 / height as f64;
+    let vertical = vertical_fov(&p, aspect)?;
+    let m = p.transform("to_world")?;
+    if p.get("near_clip").is_some() | p.get("far_clip").is_some() {
+        warnings.push(format!(
+            "{}: sensor: near_clip and far_clip are not used: ppm's camera does not clip",
+            p.location()
+        ));
+    }
+    p.ignore(&["shutter_open", "shutter_close", "srf"]);
+    p.finish()?;
+    let position = m.transform_point3(DVec3::ZERO);
+    let forward = m.transform_vector3(DVec3::Z);
+    let up = m.transform_vector3(DVec3::Y);
+    let linear = glam::DMat3::from_mat4(m);
+    if linear.determinant() <= 0.0 {
+        return Err(tree.objects[index].location.error(
+            "sensor: its to_world mirrors the image (negative determinant); ppm's camera cannot, rewrite it with a <lookat>",
+        ));
+    }
+    Camera::new(
+        position.as_vec3(),
+        (position + forward).as_vec3(),
+        up.as_vec3(),
+        vertical as f32,
+        (width, height),
+    )
+    .map_err(|e| tree.objects[index].location.error(format!("sensor: {e}")))
+}
+
+/// The vertical field of view, degrees, from `fov` + `fov_axis` (x, y, diagonal, smaller,
+/// larger; default x) or `focal_length` (`50mm`: a 36 x 24 mm film's diagonal, Mitsuba's
+/// default). With a = width / height and t = tan(fov / 2), tan(vertical / 2) is t / a (x),
+/// t (y), t / sqrt(1 + a^2) (diagonal).
+fn vertical_fov(p: &Props, aspect: f64) -> Result<f64, LoadError> {
+    let fov = p.float_opt("fov")?;
+    let focal = p.string_opt("focal_length")?;
+    let axis_name = p.string_opt("fov_axis")?;
+    let (fov, axis) = match (fov, focal) {
+        (Some(_), Some(_)) => {
+            return Err(p.error("sensor: give either `fov` or `focal_length`, not both"))
+        }
+        (Some(fov), None) => (fov, axis_name.unwrap_or("x").to_ascii_lowercase()),
+        (None, focal) => {
+            let f = focal.unwrap_or("50mm");
+            let mm = f
+                .trim()
+                .trim_end_matches("mm")
+                .parse::<f64>()
+                .ok()
+                .filter(|v| *v > 0.0 && v.is_finite())
+                .ok_or_else(|| p.error(format!("sensor: focal_length `{f}` is not like `50mm`")))?;
+            let fov = 2.0
+                * ((36.0f64 * 36.0 + 24.0 * 24.0).sqrt() / (2.0 * mm))
+                    .atan()
+                    .to_degrees();
+            (fov, "diagonal".to_string())
+        }
+    };
+    if !(fov > 0.0 && fov < 180.0) {
+        return Err(p.error(format!("sensor: fov {fov} is not in (0, 180) degrees")));
+    }
+    let axis = match axis.as_str() {
+        "smaller" if aspect > 1.0 => "y",
+        "smaller" => "x",
+        "larger" if aspect > 1.0 => "x",
+        "larger" => "y",
+        other => other,
+    };
+    let t = (fov.to_radians() * 0.5).tan();
+    let tan_vertical = match axis {
+        "x" => t / aspect,
+        "y" => t,
+        "diagonal" => t / (1.0 + aspect * aspect).sqrt(),
+        other => {
+            return Err(p.error(format!(
+                "sensor: fov_axis `{other}` is not x, y, diagonal, smaller or larger"
+            )))
+        }
+    };
+    Ok(2.0 * tan_vertical.atan().to_degrees())
+}
+
+/// The image size of an `hdrfilm`; a crop window is a warning (ppm crops on its command
+/// line), and a reconstruction filter other than `box` too (ppm averages over each pixel).
+fn film_size(
+    tree: &SceneTree,
+    index: usize,
+    warnings: &mut Vec<String>,
+) -> Result<(u32, u32), LoadError> {
+    let p = Props::new(tree, index);
+    if p.object.plugin != "hdrfilm" {
+        return Err(unsupported(&tree.objects[index]));
+    }
+    let width = p.integer("width", DEFAULT_FILM.0)?;
+    let height = p.integer("height", DEFAULT_FILM.1)?;
+    let side = |v: i64, name: &str| -> Result<u32, LoadError> {
+        u32::try_from(v)
+            .ok()
+            .filter(|v| (1..=ppm_core::camera::MAX_RESOLUTION).contains(v))
+            .ok_or_else(|| {
+                p.error(format!(
+                    "film: {name} {v} is not in [1, {}]",
+                    ppm_core::camera::MAX_RESOLUTION
+                ))
+            })
+    };
+    let size = (side(width, "width")?, side(height, "height")?);
+    let crop = [
+        "crop_offset_x",
+        "crop_offset_y",
+        "crop_width",
+        "crop_height",
+    ]
+    .map(|n| p.integer_opt(n));
+    let mut cropped = false;
+    for c in crop {
+        cropped |= c?.is_some();
+    }
+    if cropped {
+        warnings.push(format!(
+            "{}: film: the crop window is not used: render the whole image, or crop with ppm's command line",
+            p.location()
+        ));
+    }
+    for filter in p.objects("rfilter") {
+        let f = Props::new(tree, filter);
+        if f.object.plugin != "box" {
+            warnings.push(format!(
+                "{}: rfilter `{}` is not used: ppm averages each pixel's samples (a box filter)",
+                f.location(),
+                f.object.plugin
+            ));
+        }
+        f.ignore(&["radius", "stddev", "lobes", "b", "c"]);
+        f.finish()?;
+    }
+    p.ignore(&[
+        "file_format",
+        "pixel_format",
+        "component_format",
+        "banner",
+        "high_quality_edges",
+        "attach_log",
+        "sample_border",
+        "compensate",
+    ]);
+    p.finish()?;
+    Ok(size)
+}
+
+/// ppm's `max_depth` from an `<integrator type="path">` (or `volpath`): Mitsuba counts the
+/// segments of a path including the one that leaves the camera, so its `max_depth` is ppm's
+/// plus one; -1 (unbounded, the default) is ppm's largest depth.
+pub fn max_depth(
+    tree: &SceneTree,
+    index: usize,
+    warnings: &mut Vec<String>,
+) -> Result<u32, LoadError> {
+    let p = Props::new(tree, index);
+    if !matches!(p.object.plugin.as_str(), "path" | "volpath") {
+        return Err(unsupported(&tree.objects[index]));
+    }
+    let depth = p.integer("max_depth", -1)?;
+    if p.integer_opt("rr_depth")?.is_some() {
+        warnings.push(format!(
+            "{}: integrator: rr_depth is not used: ppm's Russian roulette is its own",
+            p.location()
+        ));
+    }
+    if p.boolean("hide_emitters", false)? {
+        return Err(p.error("integrator: hide_emitters is not supported yet"));
+    }
+    p.ignore(&["samples_per_pass", "timeout"]);
+    let location = p.location().clone();
+    p.finish()?;
+    match depth {
+        -1 => Ok(MAX_DEPTH),
+        d if d < 1 => Err(location.error(format!(
+            "integrator: max_depth {d} renders nothing (use -1 for unbounded, or 1 for the lights alone)"
+        ))),
+        d => {
+            let ppm = (d - 1) as u64;
+            if ppm > MAX_DEPTH as u64 {
+                warnings.push(format!(
+                    "{location}: integrator: max_depth {d} is above the supported {} bounces; using {MAX_DEPTH}",
+                    MAX_DEPTH + 1
+                ));
+            }
+            Ok(ppm.min(MAX_DEPTH as u64) as u32)
+        }
+    }
+}

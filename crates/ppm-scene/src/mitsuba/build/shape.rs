@@ -1,0 +1,259 @@
+//! Shape plugins to ppm geometry, one function per plugin: meshes from files (`obj`, `ply`,
+//! `serialized`), tessellated primitives (`rectangle`, `cube`, `disk`, `cylinder`) and the
+//! analytic `sphere`. Every mesh goes through [`place`]: `to_world`, normals by the inverse
+//! transpose, and the winding reversed by a mirroring transform or `flip_normals` so that the
+//! side a light emits to and a glass's outside stay where Mitsuba has them.
+
+use super::unsupported;
+use crate::mitsuba::props::Props;
+use crate::obj::{self, ObjMaterials};
+use crate::{ply, serialized, LoadError};
+use glam::{DMat3, DMat4, DVec3, Vec3};
+use ppm_core::geometry::{Sphere, TriangleMesh};
+use std::f64::consts::TAU;
+use std::path::PathBuf;
+
+/// Segments of a tessellated `disk` and around a `cylinder`: a regular 128-gon keeps
+/// sin(2 pi / 128) 128 / (2 pi) = 99.96 % of the circle's area (and of a disk light's power).
+pub const SEGMENTS: usize = 128;
+
+/// What one shape becomes. Meshes get their material afterwards.
+pub enum Geometry {
+    Meshes(Vec<TriangleMesh>),
+    Sphere(Sphere),
+}
+
+/// The geometry of shape `index`; `p` are its properties (the caller reads `bsdf` and
+/// `emitter` children).
+pub fn geometry(p: &Props, warnings: &mut Vec<String>) -> Result<Geometry, LoadError> {
+    let to_world = p.transform("to_world")?;
+    let flip = p.boolean("flip_normals", false)?;
+    let meshes = match p.object.plugin.as_str() {
+        "sphere" => return sphere(p, to_world, flip),
+        "rectangle" => vec![rectangle()],
+        "cube" => vec![cube()],
+        "disk" => vec![disk()],
+        "cylinder" => vec![cylinder(p)?],
+        "obj" => obj_meshes(p, warnings)?,
+        "ply" => vec![ply_mesh(p)?],
+        "serialized" => vec![serialized_mesh(p)?],
+        _ => return Err(unsupported(p.object)),
+    };
+    let face_normals = match p.object.plugin.as_str() {
+        "obj" | "ply" | "serialized" => p.boolean("face_normals", false)?,
+        _ => false,
+    };
+    p.ignore(&["flip_tex_coords"]);
+    let meshes = meshes
+        .into_iter()
+        .map(|m| place(m, to_world, flip, face_normals, p, warnings))
+        .collect::<Result<_, _>>()?;
+    Ok(Geometry::Meshes(meshes))
+}
+
+/// A mesh file named by `filename`, relative to the XML file that names it.
+fn file(p: &Props) -> Result<PathBuf, LoadError> {
+    let name = p
+        .string_opt("filename")?
+        .ok_or_else(|| p.error(format!("{} needs a string `filename`", p.object.describe())))?;
+    Ok(p.location()
+        .file
+        .parent()
+        .unwrap_or(std::path::Path::new(""))
+        .join(name))
+}
+
+/// Moves `mesh` to the world by `m`: points by `m`, shading normals by its inverse transpose
+/// (dropped with `face_normals`), negated with `flip`; the triangles' winding (which fixes
+/// the geometric normal, `cross(v1 - v0, v2 - v0)`) reversed when exactly one of a mirroring
+/// `m` (det < 0) and `flip` holds.
+fn place(
+    mut mesh: TriangleMesh,
+    m: DMat4,
+    flip: bool,
+    face_normals: bool,
+    p: &Props,
+    warnings: &mut Vec<String>,
+) -> Result<TriangleMesh, LoadError> {
+    let linear = DMat3::from_mat4(m);
+    let det = linear.determinant();
+    if !(det.is_finite() && det != 0.0) {
+        return Err(p.error(format!(
+            "{}: to_world is singular (it flattens the shape)",
+            p.object.describe()
+        )));
+    }
+    for x in &mut mesh.positions {
+        *x = m.transform_point3(x.as_dvec3()).as_vec3();
+    }
+    if mesh.positions.iter().any(|x| !x.is_finite()) {
+        return Err(p.error(format!(
+            "{}: to_world takes points out of single-precision range",
+            p.object.describe()
+        )));
+    }
+    let normal_matrix = linear.inverse().transpose();
+    let sign = if flip { -1.0 } else { 1.0 };
+    if face_normals {
+        mesh.normals.clear();
+    }
+    for n in &mut mesh.normals {
+        *n = (sign * (normal_matrix * n.as_dvec3()).normalize_or_zero()).as_vec3();
+    }
+    if mesh
+        .normals
+        .iter()
+        .any(|n| !n.is_finite() || (n.length() - 1.0).abs() > 1e-3)
+    {
+        warnings.push(format!(
+            "{}: {}: some vertex normals are zero or not finite; using the faces' normals",
+            p.location(),
+            p.object.describe()
+        ));
+        mesh.normals.clear();
+    }
+    if (det < 0.0) != flip {
+        for t in &mut mesh.indices {
+            t.swap(1, 2);
+        }
+    }
+    Ok(mesh)
+}
+
+/// `sphere`: `center` (default origin) and `radius` (default 1) moved by `to_world`, which
+/// must keep it a sphere (rotation, uniform scale, translation); ppm's analytic sphere, facing
+/// inward with `flip_normals`.
+fn sphere(p: &Props, m: DMat4, flip: bool) -> Result<Geometry, LoadError> {
+    let center = p.point_opt("center")?.unwrap_or(DVec3::ZERO);
+    let radius = p.float("radius", 1.0)?;
+    if !(radius > 0.0) {
+        return Err(p.error(format!("sphere: radius {radius} is not positive")));
+    }
+    let linear = DMat3::from_mat4(m);
+    let lengths = [linear.x_axis, linear.y_axis, linear.z_axis].map(|a| a.length());
+    let s = lengths[0];
+    let similar = lengths.iter().all(|l| (l - s).abs() <= 1e-6 * s)
+        && linear.x_axis.dot(linear.y_axis).abs() <= 1e-6 * s * s
+        && linear.y_axis.dot(linear.z_axis).abs() <= 1e-6 * s * s
+        && linear.x_axis.dot(linear.z_axis).abs() <= 1e-6 * s * s;
+    if !(similar && s > 0.0) {
+        return Err(p.error(
+            "sphere: a to_world that does not keep it a sphere (non-uniform scale or shear) is not supported yet",
+        ));
+    }
+    let c = m.transform_point3(center).as_vec3();
+    let r = (radius * s) as f32;
+    if !(c.is_finite() && r.is_finite() && r > 0.0) {
+        return Err(p.error("sphere: its centre or radius is out of single-precision range"));
+    }
+    let sphere = Sphere::new(c, r, 0);
+    Ok(Geometry::Sphere(if flip {
+        sphere.inward()
+    } else {
+        sphere
+    }))
+}
+
+/// `rectangle`: [-1, 1]^2 in the plane z = 0, normal +z.
+fn rectangle() -> TriangleMesh {
+    TriangleMesh::quad(
+        Vec3::new(-1.0, -1.0, 0.0),
+        Vec3::new(2.0, 0.0, 0.0),
+        Vec3::new(0.0, 2.0, 0.0),
+        0,
+    )
+}
+
+/// `cube`: [-1, 1]^3, normals outward, 12 triangles.
+fn cube() -> TriangleMesh {
+    let mut mesh = TriangleMesh::default();
+    // For each axis and side, a corner and two edges whose cross product points outward.
+    for axis in 0..3 {
+        let (u, v) = (
+            Vec3::AXES[(axis + 1) % 3] * 2.0,
+            Vec3::AXES[(axis + 2) % 3] * 2.0,
+        );
+        for side in [-1.0f32, 1.0] {
+            let normal = Vec3::AXES[axis] * side;
+            let (u, v) = if side > 0.0 { (u, v) } else { (v, u) };
+            let corner = normal - 0.5 * u - 0.5 * v;
+            let quad = TriangleMesh::quad(corner, u, v, 0);
+            let base = mesh.positions.len() as u32;
+            mesh.positions.extend(quad.positions);
+            mesh.indices
+                .extend(quad.indices.iter().map(|t| t.map(|i| i + base)));
+        }
+    }
+    mesh.materials = vec![0; mesh.indices.len()];
+    mesh
+}
+
+/// `disk`: the unit disk in the plane z = 0, normal +z, as a fan of [`SEGMENTS`] triangles.
+fn disk() -> TriangleMesh {
+    let mut positions = vec![Vec3::ZERO];
+    for i in 0..SEGMENTS {
+        let a = TAU * i as f64 / SEGMENTS as f64;
+        positions.push(Vec3::new(a.cos() as f32, a.sin() as f32, 0.0));
+    }
+    let indices = (0..SEGMENTS as u32)
+        .map(|i| [0, 1 + i, 1 + (i + 1) % SEGMENTS as u32])
+        .collect();
+    TriangleMesh::new(positions, indices, 0)
+}
+
+/// `cylinder`: the open tube of `radius` (default 1) from `p0` (default origin) to `p1`
+/// (default +z), [`SEGMENTS`] quads around with radial vertex normals, normals outward.
+fn cylinder(p: &Props) -> Result<TriangleMesh, LoadError> {
+    let p0 = p.point_opt("p0")?.unwrap_or(DVec3::ZERO);
+    let p1 = p.point_opt("p1")?.unwrap_or(DVec3::Z);
+    let radius = p.float("radius", 1.0)?;
+    let axis = (p1 - p0)
+        .try_normalize()
+        .ok_or_else(|| p.error("cylinder: p0 equals p1"))?;
+    if !(radius > 0.0) {
+        return Err(p.error(format!("cylinder: radius {radius} is not positive")));
+    }
+    // A right-handed frame (t, b, axis): t x b = axis.
+    let t = axis.any_orthonormal_vector();
+    let b = axis.cross(t);
+    let mut mesh = TriangleMesh::default();
+    for i in 0..SEGMENTS {
+        let a = TAU * i as f64 / SEGMENTS as f64;
+        let radial = a.cos() * t + a.sin() * b;
+        for end in [p0, p1] {
+            mesh.positions.push((end + radius * radial).as_vec3());
+            mesh.normals.push(radial.as_vec3());
+        }
+    }
+    let n = SEGMENTS as u32;
+    for i in 0..n {
+        let (a0, b0) = (2 * i, 2 * i + 1);
+        let (a1, b1) = (2 * ((i + 1) % n), 2 * ((i + 1) % n) + 1);
+        // cross(a1 - a0, b1 - a0) points along the radial direction: outward.
+        mesh.indices.push([a0, a1, b1]);
+        mesh.indices.push([a0, b1, b0]);
+    }
+    mesh.materials = vec![0; mesh.indices.len()];
+    Ok(mesh)
+}
+
+/// `obj`: every object of the file, its MTL materials ignored (the shape's BSDF applies).
+fn obj_meshes(p: &Props, warnings: &mut Vec<String>) -> Result<Vec<TriangleMesh>, LoadError> {
+    let path = file(p)?;
+    Ok(obj::load_obj(&path, ObjMaterials::Ignore, warnings)?.meshes)
+}
+
+/// `ply`: see `ply.rs`.
+fn ply_mesh(p: &Props) -> Result<TriangleMesh, LoadError> {
+    let path = file(p)?;
+    Ok(ply::load_ply(&path)?.into_triangle_mesh(0))
+}
+
+/// `serialized`: mesh `shape_index` (default 0) of the file; see `serialized.rs`.
+fn serialized_mesh(p: &Props) -> Result<TriangleMesh, LoadError> {
+    let path = file(p)?;
+    let index = p.integer("shape_index", 0)?;
+    let index = u32::try_from(index)
+        .map_err(|_| p.error(format!("serialized: shape_index {index} is negative")))?;
+    Ok(serialized::load_serialized(&path, index)?.into_triangle_mesh(0))
+}

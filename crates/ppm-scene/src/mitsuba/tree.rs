@@ -1,0 +1,127 @@
+//! The parse layer's output: a tree of plugin objects with typed properties, each tagged with
+//! the file and line it came from. Nothing here knows about rendering; the build layer reads
+//! it through [`super::props::Props`].
+
+use glam::{DMat4, DVec3};
+use std::fmt;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+/// Where an object or a property was written: a file and a 1-based line.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Location {
+    pub file: Arc<Path>,
+    pub line: u32,
+}
+
+impl fmt::Display for Location {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}:{}", self.file.display(), self.line)
+    }
+}
+
+impl Location {
+    pub(crate) fn error(&self, message: impl Into<String>) -> crate::LoadError {
+        crate::LoadError::Parse {
+            path: self.file.to_path_buf(),
+            line: self.line as usize,
+            column: 0,
+            message: message.into(),
+        }
+    }
+}
+
+/// A spectrum as written: the conversion to RGB depends on where it is used (a reflectance
+/// or an emitter's radiance), so the parser keeps it raw; see `spectrum.rs`.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Spectrum {
+    /// `<spectrum value="0.5"/>`: the same value at every wavelength.
+    Uniform(f64),
+    /// `<spectrum value="400:0.1, 500:0.5, ..."/>`: (wavelength in nm, value) pairs, increasing.
+    Samples(Vec<(f64, f64)>),
+    /// A black body of `temperature` kelvin (Planck's law, W m^-2 sr^-1 nm^-1) times `scale`.
+    Blackbody { temperature: f64, scale: f64 },
+}
+
+/// A property's value.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Value {
+    Float(f64),
+    Integer(i64),
+    Boolean(bool),
+    String(String),
+    /// Linear RGB (an `<rgb>`, or an `<srgb>` of Mitsuba 0.6 already linearised).
+    Rgb(DVec3),
+    Spectrum(Spectrum),
+    Point(DVec3),
+    Vector(DVec3),
+    Transform(DMat4),
+    /// A nested object or a resolved `<ref>`: an index into [`SceneTree::objects`].
+    Object(usize),
+}
+
+impl Value {
+    /// The XML element that writes this kind of value, for messages.
+    pub fn kind(&self) -> &'static str {
+        match self {
+            Value::Float(_) => "float",
+            Value::Integer(_) => "integer",
+            Value::Boolean(_) => "boolean",
+            Value::String(_) => "string",
+            Value::Rgb(_) => "rgb",
+            Value::Spectrum(_) => "spectrum",
+            Value::Point(_) => "point",
+            Value::Vector(_) => "vector",
+            Value::Transform(_) => "transform",
+            Value::Object(_) => "object",
+        }
+    }
+}
+
+/// A named property of an object. Nested objects without a `name` get `_arg_<n>`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Property {
+    pub name: String,
+    pub value: Value,
+    pub location: Location,
+}
+
+/// One plugin object: `<bsdf type="diffuse" id="white">...</bsdf>`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Object {
+    /// The element: `scene`, `shape`, `bsdf`, `emitter`, `sensor`, `film`, `sampler`,
+    /// `integrator`, `texture`, `rfilter`, `medium`, `phase`, `volume`.
+    pub class: String,
+    /// The `type` attribute (`diffuse`, `obj`, ...); empty for the scene.
+    pub plugin: String,
+    pub id: Option<String>,
+    pub properties: Vec<Property>,
+    pub location: Location,
+}
+
+impl Object {
+    /// `bsdf `diffuse``, for messages.
+    pub fn describe(&self) -> String {
+        match &self.id {
+            Some(id) => format!("{} `{}` (id `{id}`)", self.class, self.plugin),
+            None => format!("{} `{}`", self.class, self.plugin),
+        }
+    }
+}
+
+/// A parsed scene: every object (nested ones and those reached by `<ref>` included) in an
+/// arena, the root being the `<scene>` element.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SceneTree {
+    pub objects: Vec<Object>,
+    pub root: usize,
+    /// Every file read (the scene and its includes), in order.
+    pub files: Vec<PathBuf>,
+}
+
+impl SceneTree {
+    /// The scene element.
+    pub fn root(&self) -> &Object {
+        &self.objects[self.root]
+    }
+}
