@@ -361,12 +361,14 @@ pub fn parse_ply(bytes: &[u8], path: &Path) -> Result<MeshData, LoadError> {
         if e.properties.is_empty() {
             continue;
         }
-        // Each instance takes at least this many bytes (one per ASCII value and separator).
+        // Each instance takes at least this many bytes (in ASCII, a digit and a separator
+        // per value).
         let min: usize = match format {
             Format::Ascii => 2 * e.properties.len(),
             _ => e.properties.iter().map(Property::min_size).sum(),
         };
-        if e.count > (body.remaining() / min.max(1)) as u64 {
+        // (The last ASCII value may lack its separator: one byte of slack.)
+        if e.count.saturating_mul(min as u64) > body.remaining() as u64 + 1 {
             return Err(LoadError::parse(
                 path,
                 0,
@@ -412,7 +414,9 @@ pub fn parse_ply(bytes: &[u8], path: &Path) -> Result<MeshData, LoadError> {
                     Property::Scalar(_, t) => values.push(body.read(*t).map_err(|m| fail(i, m))?),
                     Property::List(name, c, t) => {
                         let n = body.read(*c).map_err(|m| fail(i, m))?;
-                        if n < 0.0 || n * t.size() as f64 > body.remaining() as f64 {
+                        // Each item takes its size in binary, a digit at least in ASCII.
+                        let item = if format == Format::Ascii { 1 } else { t.size() };
+                        if n < 0.0 || n * item as f64 > body.remaining() as f64 {
                             return Err(fail(i, format!("list `{name}` has a bad length {n}")));
                         }
                         values.push(f64::NAN);

@@ -39,15 +39,20 @@ pub fn geometry(p: &Props, warnings: &mut Vec<String>) -> Result<Geometry, LoadE
         "serialized" => vec![serialized_mesh(p)?],
         _ => return Err(unsupported(p.object)),
     };
-    let face_normals = match p.object.plugin.as_str() {
-        "obj" | "ply" | "serialized" => p.boolean("face_normals", false)?,
-        _ => false,
-    };
+    let from_file = matches!(p.object.plugin.as_str(), "obj" | "ply" | "serialized");
+    let face_normals = from_file && p.boolean("face_normals", false)?;
     p.ignore(&["flip_tex_coords"]);
     let meshes = meshes
         .into_iter()
-        .map(|m| place(m, to_world, flip, face_normals, p, warnings))
-        .collect::<Result<_, _>>()?;
+        .map(|m| {
+            let mut mesh = place(m, to_world, flip, face_normals, p, warnings)?;
+            // Mitsuba smooths a mesh file that stores no normals unless told `face_normals`.
+            if from_file && !face_normals && mesh.normals.is_empty() {
+                mesh.normals = vertex_normals(&mesh);
+            }
+            Ok(mesh)
+        })
+        .collect::<Result<_, LoadError>>()?;
     Ok(Geometry::Meshes(meshes))
 }
 
@@ -120,13 +125,47 @@ fn place(
     Ok(mesh)
 }
 
+/// Smooth vertex normals, as Mitsuba computes them for a mesh that has none: each
+/// triangle's unit normal added to its three corners weighted by the corner's interior angle
+/// (Thürmer and Wüthrich 1998, "Computing vertex normals from polygonal facets", JGT 3(1)),
+/// then normalised. Empty (flat shading) if a vertex of a triangle gets no usable normal.
+pub fn vertex_normals(mesh: &TriangleMesh) -> Vec<Vec3> {
+    let mut sum = vec![DVec3::ZERO; mesh.positions.len()];
+    for t in &mesh.indices {
+        let p = t.map(|i| mesh.positions[i as usize].as_dvec3());
+        let Some(n) = (p[1] - p[0]).cross(p[2] - p[0]).try_normalize() else {
+            continue;
+        };
+        for k in 0..3 {
+            let e1 = (p[(k + 1) % 3] - p[k]).normalize_or_zero();
+            let e2 = (p[(k + 2) % 3] - p[k]).normalize_or_zero();
+            sum[t[k] as usize] += n * e1.dot(e2).clamp(-1.0, 1.0).acos();
+        }
+    }
+    let mut used = vec![false; mesh.positions.len()];
+    mesh.indices
+        .iter()
+        .flatten()
+        .for_each(|&i| used[i as usize] = true);
+    // A vertex no triangle uses is never shaded: any unit vector does.
+    let normals: Option<Vec<Vec3>> = sum
+        .iter()
+        .zip(&used)
+        .map(|(n, &used)| match used {
+            true => n.try_normalize().map(|n| n.as_vec3()),
+            false => Some(Vec3::Z),
+        })
+        .collect();
+    normals.unwrap_or_default()
+}
+
 /// `sphere`: `center` (default origin) and `radius` (default 1) moved by `to_world`, which
 /// must keep it a sphere (rotation, uniform scale, translation); ppm's analytic sphere, facing
 /// inward with `flip_normals`.
 fn sphere(p: &Props, m: DMat4, flip: bool) -> Result<Geometry, LoadError> {
     let center = p.point_opt("center")?.unwrap_or(DVec3::ZERO);
     let radius = p.float("radius", 1.0)?;
-    if !(radius > 0.0) {
+    if radius <= 0.0 {
         return Err(p.error(format!("sphere: radius {radius} is not positive")));
     }
     let linear = DMat3::from_mat4(m);
@@ -210,7 +249,7 @@ fn cylinder(p: &Props) -> Result<TriangleMesh, LoadError> {
     let axis = (p1 - p0)
         .try_normalize()
         .ok_or_else(|| p.error("cylinder: p0 equals p1"))?;
-    if !(radius > 0.0) {
+    if radius <= 0.0 {
         return Err(p.error(format!("cylinder: radius {radius} is not positive")));
     }
     // A right-handed frame (t, b, axis): t x b = axis.
