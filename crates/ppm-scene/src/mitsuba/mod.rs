@@ -18,6 +18,7 @@ pub mod props;
 pub mod spectrum;
 pub mod transform;
 pub mod tree;
+mod values;
 
 pub use build::shape::SEGMENTS;
 
