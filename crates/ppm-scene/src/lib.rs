@@ -1,7 +1,8 @@
 //! # ppm-scene
 //!
 //! Scene format v1 (one YAML file, specified in `docs/scene-format.md`) and Wavefront OBJ/MTL
-//! meshes, loaded into a [`ppm_core::scene::Scene`].
+//! meshes, loaded into a [`ppm_core::scene::Scene`]; and Mitsuba XML scenes with their OBJ,
+//! PLY and serialized meshes ([`mitsuba`], `docs/mitsuba.md`), chosen by the `.xml` extension.
 //!
 //! Loading never panics on bad input: every problem becomes a [`LoadError`] whose message
 //! starts with the file and the line (and column) or field path, e.g.

@@ -34,6 +34,8 @@ enum Edit {
     Delete(Index, usize),
     Duplicate(Index, usize),
     Byte(Index, u8),
+    /// The text between the quotes of one `value="..."`, replaced: valid XML, odd values.
+    Value(Index, &'static str),
 }
 
 fn edit(tokens: Vec<&'static str>) -> impl Strategy<Value = Edit> {
@@ -70,6 +72,22 @@ fn apply(bytes: &[u8], edits: &[Edit]) -> Vec<u8> {
             Edit::Byte(i, b) => {
                 let s = at(i, &out);
                 out[s] = *b;
+            }
+            Edit::Value(i, v) => {
+                let key = b"value=\"";
+                let starts: Vec<usize> = (0..out.len().saturating_sub(key.len()))
+                    .filter(|&k| out[k..].starts_with(key))
+                    .map(|k| k + key.len())
+                    .collect();
+                if starts.is_empty() {
+                    continue;
+                }
+                let s = starts[i.index(starts.len())];
+                let end = out[s..]
+                    .iter()
+                    .position(|&c| c == b'"')
+                    .map_or(out.len(), |e| s + e);
+                out.splice(s..end, v.bytes());
             }
         }
     }
@@ -113,6 +131,33 @@ fn check_error(e: &LoadError) {
     assert!(msg.starts_with(&e.path().display().to_string()), "{msg}");
 }
 
+/// Values for `value="..."`: out of range, not finite, the wrong kind or count.
+const VALUES: &[&str] = &[
+    "1e39",
+    "-1e39",
+    "-1",
+    "0",
+    "1e-45",
+    "NaN",
+    "inf",
+    "",
+    "1, 2",
+    "1 2 3 4",
+    "abc",
+    "$res",
+    "$undefined",
+    "x",
+    "y",
+    "diagonal",
+    "none",
+    "bk7",
+    "0.5, -0.2, 0.1",
+    "400:1, 500:1e40",
+    "9999999999999999999",
+    "16385",
+    "2",
+];
+
 const XML_TOKENS: &[&str] = &[
     "<",
     ">",
@@ -152,19 +197,32 @@ const XML_TOKENS: &[&str] = &[
     "&#0;",
 ];
 
+/// The Cornell box of `data/` with `edits`: a sane scene or an error naming a file.
+fn load_mutated_cbox(edits: &[Edit]) {
+    let path = data("cbox.xml");
+    let text = apply(&std::fs::read(&path).unwrap(), edits);
+    let text = String::from_utf8_lossy(&text);
+    let defines = [("res".to_string(), "16".to_string())];
+    match parse_mitsuba(&text, &path, &defines) {
+        Ok((b, _)) => check_builder(&b),
+        Err(e) => check_error(&e),
+    }
+}
+
 proptest! {
     #![proptest_config(config(300))]
 
     #[test]
     fn mutated_mitsuba_scenes_never_panic(edits in prop::collection::vec(edit(XML_TOKENS.to_vec()), 1..6)) {
-        let path = data("cbox.xml");
-        let text = apply(&std::fs::read(&path).unwrap(), &edits);
-        let text = String::from_utf8_lossy(&text);
-        let defines = [("res".to_string(), "16".to_string())];
-        match parse_mitsuba(&text, &path, &defines) {
-            Ok((b, _)) => check_builder(&b),
-            Err(e) => check_error(&e),
-        }
+        load_mutated_cbox(&edits);
+    }
+
+    #[test]
+    fn mitsuba_scenes_with_odd_values_never_panic(
+        values in prop::collection::vec((any::<Index>(), select(VALUES)), 1..4),
+    ) {
+        let edits: Vec<Edit> = values.into_iter().map(|(i, v)| Edit::Value(i, v)).collect();
+        load_mutated_cbox(&edits);
     }
 
     #[test]

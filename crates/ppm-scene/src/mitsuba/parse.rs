@@ -9,10 +9,10 @@
 
 use super::names::camel_to_snake;
 use super::transform;
+use super::tree::{Location, Object, Property, SceneTree, Spectrum, Value};
 use super::values::{
     parse_hex_colour, parse_number, parse_numbers, parse_spectrum, parse_triple, srgb_to_linear,
 };
-use super::tree::{Location, Object, Property, SceneTree, Spectrum, Value};
 use crate::LoadError;
 use glam::{DMat4, DVec3};
 use roxmltree::{Document, Node, ParsingOptions};
