@@ -178,6 +178,7 @@ const XML_TOKENS: &[&str] = &[
     "<matrix value=\"1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1\"/>",
     "<float name=\"radius\" value=\"-1\"/>",
     "<rgb name=\"radiance\" value=\"1e39\"/>",
+    "<spectrum name=\"radiance\" value=\"550:5\"/>",
     "<spectrum name=\"reflectance\" value=\"400:1, 700:2\"/>",
     "<shape type=\"sphere\">",
     "<shape type=\"disk\"/>",

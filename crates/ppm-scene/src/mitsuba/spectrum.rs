@@ -137,11 +137,15 @@ fn sampled(samples: &[(f64, f64)], lambda: f64) -> f64 {
     if lambda < first.0 || lambda > last.0 {
         return 0.0;
     }
+    // One sample is a single wavelength: the value there (and zero elsewhere).
+    if samples.len() == 1 {
+        return first.1;
+    }
     let i = samples
         .partition_point(|s| s.0 <= lambda)
         .clamp(1, samples.len() - 1);
     let (a, b) = (samples[i - 1], samples[i]);
-    if b.0 == a.0 {
+    if b.0 <= a.0 {
         return b.1;
     }
     a.1 + (b.1 - a.1) * (lambda - a.0) / (b.0 - a.0)
