@@ -9,6 +9,7 @@ use common::{scenes_dir, write_files};
 use glam::{Vec2, Vec3};
 use ppm_core::bsdf::Bsdf;
 use ppm_core::integrator::{Algorithm, RenderSettings, Renderer, MAX_DEPTH};
+use ppm_core::light::Light;
 use ppm_core::scene::SceneBuilder;
 use ppm_scene::mitsuba::parse_mitsuba;
 use ppm_scene::{load_scene_builder, load_scene_builder_with_defines, LoadError};
@@ -278,8 +279,11 @@ fn spheres_are_analytic_and_bsdfs_map_to_ppms() {
     assert!(
         matches!(bsdf(b.meshes[1].materials[0]), Bsdf::Diffuse(d) if d.albedo == Vec3::splat(0.5))
     );
-    assert_eq!(b.point_lights[0].intensity, Vec3::splat(5.0));
-    assert_eq!(b.point_lights[0].position, Vec3::new(0.0, 3.0, 3.0));
+    let Light::Point(point) = b.lights[0] else {
+        panic!("{:?}", b.lights)
+    };
+    assert_eq!(point.intensity, Vec3::splat(5.0));
+    assert_eq!(point.position, Vec3::new(0.0, 3.0, 3.0));
 }
 
 #[test]

@@ -118,10 +118,9 @@ fn check_builder(b: &SceneBuilder) {
     for s in &b.spheres {
         assert!(s.center.is_finite() && s.radius.is_finite() && s.radius > 0.0 && s.material < n);
     }
-    for l in &b.point_lights {
-        assert!(
-            l.position.is_finite() && l.intensity.is_finite() && l.intensity.min_element() >= 0.0
-        );
+    for l in &b.lights {
+        let power = l.power();
+        assert!(power.is_finite() && power.min_element() >= 0.0, "{l:?}");
     }
 }
 

@@ -75,7 +75,7 @@ pub fn build(tree: &SceneTree, warnings: &mut Vec<String>) -> Result<SceneBuilde
         }
     }
     let emits = |m: u32| builder.materials[m as usize].is_emissive();
-    let has_light = !builder.point_lights.is_empty()
+    let has_light = !builder.lights.is_empty()
         || builder.spheres.iter().any(|s| emits(s.material))
         || builder
             .meshes
