@@ -1,8 +1,7 @@
 //! End-to-end: every shipped scene renders with both algorithms, with no NaN or Inf, and the
 //! renders survive moving the scene far from the origin or shrinking it.
 
-#[path = "../crates/ppm-core/tests/test_scenes/mod.rs"]
-mod test_scenes;
+use ppm_test_support::test_scenes;
 
 use ppm_core::light::Light;
 use ppm_core::prelude::*;

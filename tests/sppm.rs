@@ -1,8 +1,7 @@
 //! End-to-end: stochastic progressive photon mapping converges to the path tracer's image on
 //! the four shipped scenes (small), by image mean and per pixel.
 
-#[path = "../crates/ppm-core/tests/test_scenes/mod.rs"]
-mod test_scenes;
+use ppm_test_support::test_scenes;
 
 use ppm_core::prelude::*;
 use ppm_tests::{load_small, SCENES};

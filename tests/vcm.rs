@@ -2,8 +2,7 @@
 //! `bpm`, `lt`), converge to the path tracer's image on the four shipped scenes (small), by
 //! image mean and per pixel.
 
-#[path = "../crates/ppm-core/tests/test_scenes/mod.rs"]
-mod test_scenes;
+use ppm_test_support::test_scenes;
 
 use ppm_core::bsdf::BsdfFlags;
 use ppm_core::geometry::Ray;

@@ -2,7 +2,7 @@
 //! count over every photon of the last iteration at the pixel's pilot point; for `sppm`, it is
 //! each pixel's accumulated N. The path tracer has none.
 
-mod test_scenes;
+use ppm_test_support::test_scenes;
 
 use ppm_core::integrator::{pilot_points, RayCounters, Renderer};
 use ppm_core::prelude::*;

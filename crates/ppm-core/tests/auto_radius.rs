@@ -3,7 +3,7 @@
 //! and with `sppm`; the old default (0.5% of the scene's diagonal) does not; and the per-pixel
 //! radii are deterministic at any thread count.
 
-mod test_scenes;
+use ppm_test_support::test_scenes;
 
 use ppm_core::integrator::{footprint_radius, pilot_radii, RayCounters};
 use ppm_core::prelude::*;

@@ -1,7 +1,7 @@
 //! Crop windows: a render of a window of the image gives exactly the full render's pixels in
 //! that window, for every integrator (random streams are keyed by the full image's pixel index).
 
-mod test_scenes;
+use ppm_test_support::test_scenes;
 
 use ppm_core::pixel_bounds::PixelBounds;
 use ppm_core::prelude::*;

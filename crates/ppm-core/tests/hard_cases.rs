@@ -1,6 +1,6 @@
 //! Hard cases for the estimators: nested and touching dielectrics, extreme gather radii.
 
-mod test_scenes;
+use ppm_test_support::test_scenes;
 
 use ppm_core::prelude::*;
 use test_scenes::{add_block, cornell, render_stats, BoxContents, PixelStats};

@@ -1,7 +1,7 @@
 //! Integrator tests: analytic furnaces, estimators that must agree, power conservation,
 //! thread-count determinism and light leaks.
 
-mod test_scenes;
+use ppm_test_support::test_scenes;
 
 use ppm_core::integrator::LightStrategy;
 use ppm_core::prelude::*;

@@ -9,7 +9,7 @@
 //! and counting the deeper ones brightens the image by several percent. Both direct modes
 //! are checked; vcm, whose merges bound the path's edges themselves, with them.
 
-mod test_scenes;
+use ppm_test_support::test_scenes;
 
 use ppm_core::prelude::*;
 use test_scenes::{assert_converges_to_pt, cornell, render_stats, sppm_stats, BoxContents};

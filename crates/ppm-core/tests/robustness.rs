@@ -2,7 +2,7 @@
 //! iteration finite, iterations that can be abandoned without touching the image, memory
 //! stated before it is allocated, and light powers that must fit f32 arithmetic.
 
-mod test_scenes;
+use ppm_test_support::test_scenes;
 
 use ppm_core::integrator::{MemoryPart, Snapshot, MAX_DEPTH};
 use ppm_core::light::MAX_LIGHT_POWER;

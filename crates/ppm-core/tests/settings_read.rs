@@ -3,7 +3,7 @@
 //! integrators themselves. Each setting is changed on its own: an integrator that reads it
 //! must render a different image, one that does not must render the same image bit for bit.
 
-mod test_scenes;
+use ppm_test_support::test_scenes;
 
 use ppm_core::integrator::{LightStrategy, Setting};
 use ppm_core::prelude::*;

@@ -4,7 +4,7 @@
 //! (`GatherNormals`); without it a floor whose normals lean 40 degrees toward the lamp came
 //! out 25% darker in ppm and sppm than in pt, and vcm's merging 4% darker.
 
-mod test_scenes;
+use ppm_test_support::test_scenes;
 
 use ppm_core::integrator::Radius;
 use ppm_core::prelude::*;

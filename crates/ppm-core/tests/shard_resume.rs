@@ -2,7 +2,7 @@
 //! continued (resume), must give the image of one uninterrupted render bit for bit, at any
 //! thread count, for every integrator.
 
-mod test_scenes;
+use ppm_test_support::test_scenes;
 
 use ppm_core::film::Film;
 use ppm_core::integrator::{PixelChannel, Radius, Snapshot};

@@ -3,7 +3,7 @@
 //! lights behind a mirror), and the builder's one list of lights. The contract checks common
 //! to every light are in `light_harness.rs`.
 
-mod test_scenes;
+use ppm_test_support::test_scenes;
 
 use ppm_core::light::{Light, LightKind};
 use ppm_core::prelude::*;

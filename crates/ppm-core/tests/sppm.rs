@@ -2,7 +2,7 @@
 //! per-pixel radius rule, and the photon count default. (Convergence to the path tracer on
 //! the shipped scenes: tests/sppm.rs of the workspace.)
 
-mod test_scenes;
+use ppm_test_support::test_scenes;
 
 use ppm_core::prelude::*;
 use test_scenes::{

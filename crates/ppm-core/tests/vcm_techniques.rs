@@ -1,7 +1,7 @@
 //! The technique sets of the VCM code (`bpt`, `bpm`, `lt`; see `integrator/vcm/techniques.rs`):
 //! each converges to the analytic furnace and renders the same image at any thread count.
 
-mod test_scenes;
+use ppm_test_support::test_scenes;
 
 use ppm_core::integrator::{Techniques, VcmRenderer};
 use ppm_core::pixel_bounds::PixelBounds;

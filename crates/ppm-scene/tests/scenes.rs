@@ -8,13 +8,9 @@ use glam::{Vec2, Vec3};
 use ppm_core::bsdf::Bsdf;
 use ppm_scene::obj::{load_obj, ObjMaterials};
 use ppm_scene::{load_scene, load_scene_builder};
+use ppm_test_support::meshes as make_meshes;
 use std::collections::HashMap;
 use std::path::PathBuf;
-
-// The mesh generator, compiled here too so the committed meshes can be compared with it.
-#[allow(dead_code)]
-#[path = "../examples/make_meshes.rs"]
-mod make_meshes;
 
 fn scene_files() -> Vec<PathBuf> {
     let mut files: Vec<PathBuf> = std::fs::read_dir(scenes_dir())

@@ -1,5 +1,4 @@
 //! Small scenes built in code and per-pixel statistics, shared by the integrator tests.
-#![allow(dead_code)]
 
 use ppm_core::prelude::*;
 
