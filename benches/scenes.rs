@@ -141,15 +141,10 @@ fn iteration(c: &mut Criterion) {
         .build()
         .unwrap();
     g.throughput(Throughput::Elements(64 * 64));
-    for (label, algorithm) in [
-        ("pt", Algorithm::Path),
-        ("ppm", Algorithm::Ppm),
-        ("sppm", Algorithm::Sppm),
-        ("vcm", Algorithm::Vcm),
-    ] {
+    for algorithm in Algorithm::ALL {
         let settings = RenderSettings::for_algorithm(&scene, algorithm);
         let mut renderer = Renderer::new(&scene, &settings);
-        g.bench_function(BenchmarkId::new(label, name), |b| {
+        g.bench_function(BenchmarkId::new(algorithm.name(), name), |b| {
             b.iter(|| pool.install(|| renderer.iterate(&scene)).rays)
         });
     }

@@ -21,13 +21,9 @@ fn main() {
             "--iterations" => iterations = value().parse().expect("--iterations I"),
             "--size" => size = value().parse().expect("--size PIXELS"),
             "--algorithm" => {
-                algorithm = match value().as_str() {
-                    "pt" => Algorithm::Path,
-                    "ppm" => Algorithm::Ppm,
-                    "sppm" => Algorithm::Sppm,
-                    "vcm" => Algorithm::Vcm,
-                    other => panic!("unknown algorithm {other}"),
-                }
+                algorithm = value()
+                    .parse()
+                    .unwrap_or_else(|e| panic!("--algorithm: {e}"))
             }
             other => panic!("unknown argument {other}"),
         }

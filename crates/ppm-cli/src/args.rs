@@ -4,9 +4,10 @@
 //! same. A scene file named like a subcommand (`compare`, `converge`, `merge`, `render`) can
 //! still be rendered as `ppm ./compare`.
 
+use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use ppm_core::camera::MAX_RESOLUTION;
-use ppm_core::integrator::{Algorithm, DirectMode, LightStrategy, Radius};
+use ppm_core::integrator::{Algorithm, Aov, DirectMode, LightStrategy, Radius};
 use std::path::PathBuf;
 
 const AFTER_HELP: &str = "\
@@ -72,8 +73,8 @@ pub struct RenderArgs {
     #[arg(short, long, value_name = "PATH")]
     pub output: Option<PathBuf>,
     /// Integrator [default: the scene's `render.algorithm`, else ppm].
-    #[arg(short, long, value_enum)]
-    pub algorithm: Option<AlgorithmArg>,
+    #[arg(short, long, value_parser = algorithm_parser())]
+    pub algorithm: Option<Algorithm>,
     #[command(flatten)]
     pub settings: SettingsArgs,
     /// Stop after the iteration that crosses this much render time (seconds).
@@ -133,6 +134,14 @@ pub enum AovArg {
 }
 
 impl AovArg {
+    /// The image it names.
+    pub fn aov(self) -> Aov {
+        match self {
+            AovArg::Radius => Aov::Radius,
+            AovArg::Photons => Aov::Photons,
+        }
+    }
+
     /// The tag in the file name: `<output>.<name>.exr`.
     pub fn name(self) -> &'static str {
         match self {
@@ -209,8 +218,8 @@ pub struct ConvergeArgs {
     #[arg(long, value_name = "SECONDS", value_parser = positive_seconds, allow_negative_numbers = true)]
     pub time_limit: f64,
     /// Algorithms to run, comma-separated.
-    #[arg(short, long, value_enum, value_delimiter = ',', default_values_t = [AlgorithmArg::Pt, AlgorithmArg::Ppm])]
-    pub algorithm: Vec<AlgorithmArg>,
+    #[arg(short, long, value_parser = algorithm_parser(), value_delimiter = ',', default_values_t = [Algorithm::Path, Algorithm::Ppm])]
+    pub algorithm: Vec<Algorithm>,
     /// Seeds per algorithm (K > 1 draws the min/max band over seeds).
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=1000), allow_negative_numbers = true)]
     pub seeds: u32,
@@ -231,53 +240,24 @@ pub struct MergeArgs {
     pub output: PathBuf,
 }
 
-#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
-pub enum AlgorithmArg {
-    /// Path tracing with next-event estimation and MIS.
-    Pt,
-    /// Progressive photon mapping.
-    Ppm,
-    /// Stochastic progressive photon mapping (per-pixel radii; photons never stored).
-    Sppm,
-    /// Vertex connection and merging: bidirectional path tracing and photon mapping by MIS.
-    Vcm,
+/// The `-a` values: every name and alias of [`Algorithm::TABLE`], each name with its line of
+/// description in `--help`.
+fn algorithm_parser() -> impl TypedValueParser<Value = Algorithm> {
+    let values = Algorithm::TABLE.iter().map(|entry| {
+        PossibleValue::new(entry.name)
+            .aliases(entry.aliases.iter().copied())
+            .help(entry.description)
+    });
+    PossibleValuesParser::new(values).map(|name| match name.parse() {
+        Ok(algorithm) => algorithm,
+        Err(_) => unreachable!("the possible values are the table's names"),
+    })
 }
 
-impl AlgorithmArg {
-    pub fn algorithm(self) -> Algorithm {
-        match self {
-            AlgorithmArg::Pt => Algorithm::Path,
-            AlgorithmArg::Ppm => Algorithm::Ppm,
-            AlgorithmArg::Sppm => Algorithm::Sppm,
-            AlgorithmArg::Vcm => Algorithm::Vcm,
-        }
-    }
-
-    /// The value naming `algorithm`.
-    pub fn from_algorithm(algorithm: Algorithm) -> Self {
-        match algorithm {
-            Algorithm::Path => AlgorithmArg::Pt,
-            Algorithm::Ppm => AlgorithmArg::Ppm,
-            Algorithm::Sppm => AlgorithmArg::Sppm,
-            Algorithm::Vcm => AlgorithmArg::Vcm,
-        }
-    }
-
-    /// The algorithm a render uses: `-a` if given, else the scene's `render.algorithm`, else
-    /// `ppm`.
-    pub fn resolve(given: Option<AlgorithmArg>, scene: Option<Algorithm>) -> Self {
-        given.unwrap_or(scene.map_or(AlgorithmArg::Ppm, AlgorithmArg::from_algorithm))
-    }
-
-    /// The name used on the command line, in CSV files and in plots.
-    pub fn name(self) -> &'static str {
-        match self {
-            AlgorithmArg::Pt => "pt",
-            AlgorithmArg::Ppm => "ppm",
-            AlgorithmArg::Sppm => "sppm",
-            AlgorithmArg::Vcm => "vcm",
-        }
-    }
+/// The algorithm a render uses: `-a` if given, else the scene's `render.algorithm`, else
+/// [`Algorithm::DEFAULT`].
+pub fn resolve_algorithm(given: Option<Algorithm>, scene: Option<Algorithm>) -> Algorithm {
+    given.or(scene).unwrap_or(Algorithm::DEFAULT)
 }
 
 #[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
@@ -410,7 +390,7 @@ mod tests {
         assert_eq!(r.iterations, Some(3));
         assert_eq!(r.output, Some(PathBuf::from("out.png")));
         assert_eq!(r.settings.seed, 7);
-        assert_eq!(r.algorithm, Some(AlgorithmArg::Pt));
+        assert_eq!(r.algorithm, Some(Algorithm::Path));
     }
 
     #[test]
@@ -453,14 +433,14 @@ mod tests {
         assert_eq!(r.settings.direct, Some(DirectArg::Sampled));
         // Without -a: the scene's render.algorithm, else ppm.
         assert_eq!(r.algorithm, None);
-        assert_eq!(AlgorithmArg::resolve(None, None), AlgorithmArg::Ppm);
+        assert_eq!(resolve_algorithm(None, None), Algorithm::Ppm);
         assert_eq!(
-            AlgorithmArg::resolve(None, Some(Algorithm::Vcm)),
-            AlgorithmArg::Vcm
+            resolve_algorithm(None, Some(Algorithm::Vcm)),
+            Algorithm::Vcm
         );
         assert_eq!(
-            AlgorithmArg::resolve(Some(AlgorithmArg::Pt), Some(Algorithm::Vcm)),
-            AlgorithmArg::Pt
+            resolve_algorithm(Some(Algorithm::Path), Some(Algorithm::Vcm)),
+            Algorithm::Path
         );
     }
 
@@ -494,7 +474,7 @@ mod tests {
         let Some(Command::Converge(c)) = cli.command else {
             panic!("expected converge")
         };
-        assert_eq!(c.algorithm, [AlgorithmArg::Pt, AlgorithmArg::Ppm]);
+        assert_eq!(c.algorithm, [Algorithm::Path, Algorithm::Ppm]);
         assert_eq!((c.seeds, c.time_limit), (3, 2.0));
         assert_eq!(c.out, PathBuf::from("plots"));
         let c = match parse(&[
@@ -511,7 +491,7 @@ mod tests {
             Some(Command::Converge(c)) => c,
             _ => panic!(),
         };
-        assert_eq!(c.algorithm, [AlgorithmArg::Pt, AlgorithmArg::Ppm]);
+        assert_eq!(c.algorithm, [Algorithm::Path, Algorithm::Ppm]);
         assert!(
             parse(&["converge", "s.yml", "--time-limit", "1"]).is_err(),
             "reference is required"

@@ -6,9 +6,9 @@
 //! winding seen from the lit side). A light none of whose triangles has any other geometry in
 //! front of its plane lights nothing.
 
-use crate::render::LoopTotals;
+use crate::render_loop::LoopTotals;
 use ppm_core::film::Image;
-use ppm_core::integrator::{Algorithm, DirectMode, RenderSettings};
+use ppm_core::integrator::{DirectMode, RenderSettings};
 use ppm_core::scene::{Scene, SceneBuilder};
 use ppm_core::{Vec2, Vec3};
 use std::path::Path;
@@ -240,7 +240,7 @@ pub fn warn_if_black(
         scene_path,
         scene,
         builder: builder.as_ref(),
-        photon_mapping: settings.algorithm == Algorithm::Ppm,
+        photon_mapping: settings.algorithm.features().photon_map,
         light_paths: totals.light_paths,
         photons: totals.photons,
         max_depth: settings.max_depth,

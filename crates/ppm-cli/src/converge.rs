@@ -1,23 +1,24 @@
 //! `ppm converge`: every algorithm gets the same render-time budget per seed; the error against
 //! the reference is measured on a log schedule and written as a CSV and a log-log plot.
 
-use crate::args::{AlgorithmArg, ConvergeArgs};
+use crate::args::ConvergeArgs;
 use crate::error_log::{ErrorSample, ErrorTracker};
 use crate::output;
 use crate::plot::{self, Curve};
 use crate::progress::Progress;
-use crate::render::{render_loop, Outcome, StopRule};
+use crate::render::Outcome;
+use crate::render_loop::{render_loop, StopRule};
 use crate::setup;
 use crate::signal::Interrupt;
 use anyhow::{bail, Context, Result};
-use ppm_core::integrator::{Radius, Renderer, Setting};
+use ppm_core::integrator::{Algorithm, Radius, Renderer, Setting};
 use std::fmt::Write as _;
 use std::path::PathBuf;
 
 /// The error curve of one algorithm and seed.
 #[derive(Clone, Debug)]
 pub struct Run {
-    pub algorithm: AlgorithmArg,
+    pub algorithm: Algorithm,
     pub seed: u64,
     pub iterations: u64,
     /// Photon mapping: light paths per iteration and initial radius (None for pt).
@@ -70,7 +71,7 @@ pub fn csv(runs: &[Run], context: &CsvContext<'_>) -> String {
 
 /// One plot curve per algorithm (in order of first appearance), one run per seed.
 pub fn curves(runs: &[Run]) -> Vec<Curve> {
-    let mut curves: Vec<(AlgorithmArg, Curve)> = Vec::new();
+    let mut curves: Vec<(Algorithm, Curve)> = Vec::new();
     for run in runs {
         let points = run.samples.iter().map(|s| (s.seconds, s.rel_mse)).collect();
         match curves.iter_mut().find(|(a, _)| *a == run.algorithm) {
@@ -237,7 +238,7 @@ pub fn run(args: &ConvergeArgs, interrupt: &Interrupt) -> Result<Outcome> {
                     totals.iterations,
                     totals.seconds
                 );
-                let reads = |setting| algorithm.algorithm().reads(setting);
+                let reads = |setting| algorithm.reads(setting);
                 runs.push(Run {
                     algorithm,
                     seed,
@@ -286,7 +287,7 @@ pub fn run(args: &ConvergeArgs, interrupt: &Interrupt) -> Result<Outcome> {
 mod tests {
     use super::*;
 
-    fn run(algorithm: AlgorithmArg, seed: u64, errors: &[f64]) -> Run {
+    fn run(algorithm: Algorithm, seed: u64, errors: &[f64]) -> Run {
         let samples = errors
             .iter()
             .enumerate()
@@ -297,8 +298,8 @@ mod tests {
                 rmse: e.sqrt(),
             })
             .collect();
-        let ppm = algorithm == AlgorithmArg::Ppm;
-        let vcm = algorithm == AlgorithmArg::Vcm;
+        let ppm = algorithm == Algorithm::Ppm;
+        let vcm = algorithm == Algorithm::Vcm;
         Run {
             algorithm,
             seed,
@@ -312,9 +313,9 @@ mod tests {
     #[test]
     fn csv_has_one_row_per_sample() {
         let runs = [
-            run(AlgorithmArg::Pt, 0, &[0.25, 0.0625]),
-            run(AlgorithmArg::Ppm, 3, &[1.0]),
-            run(AlgorithmArg::Vcm, 1, &[0.5]),
+            run(Algorithm::Path, 0, &[0.25, 0.0625]),
+            run(Algorithm::Ppm, 3, &[1.0]),
+            run(Algorithm::Vcm, 1, &[0.5]),
         ];
         let context = CsvContext {
             threads: 2,
@@ -338,9 +339,9 @@ mod tests {
     #[test]
     fn curves_group_seeds_by_algorithm() {
         let runs = [
-            run(AlgorithmArg::Ppm, 0, &[1.0, 0.5]),
-            run(AlgorithmArg::Pt, 0, &[2.0]),
-            run(AlgorithmArg::Ppm, 1, &[0.8, 0.4]),
+            run(Algorithm::Ppm, 0, &[1.0, 0.5]),
+            run(Algorithm::Path, 0, &[2.0]),
+            run(Algorithm::Ppm, 1, &[0.8, 0.4]),
         ];
         let curves = curves(&runs);
         assert_eq!(

@@ -22,6 +22,7 @@ mod plot;
 mod progress;
 mod provenance;
 mod render;
+mod render_loop;
 mod report;
 mod rescue;
 mod resume;

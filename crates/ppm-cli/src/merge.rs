@@ -28,7 +28,7 @@ pub fn run(args: &MergeArgs) -> Result<()> {
         parts.push((path.clone(), part));
     }
     let (snapshot, provenance) = merge(parts)?;
-    state_file::write_outputs(&paths, &snapshot.film.image(), &snapshot, &provenance)?;
+    state_file::write_image_and_state(&paths, &snapshot.film.image(), &snapshot, &provenance)?;
     status!(
         "merged {} parts: iterations {}..{} of {}, wrote {} and {}",
         args.parts.len(),

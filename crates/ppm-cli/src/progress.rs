@@ -1,7 +1,7 @@
 //! What the user sees while and after rendering: a progress bar on stderr and a one-line
 //! summary with speeds and memory.
 
-use crate::render::{LoopTotals, StopRule};
+use crate::render_loop::{LoopTotals, StopRule};
 use indicatif::{ProgressBar, ProgressStyle};
 
 /// A progress bar on stderr, counting iterations, or render time under a time limit.

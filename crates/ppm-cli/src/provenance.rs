@@ -94,16 +94,8 @@ fn setting_named(attribute: &str) -> Option<Setting> {
     }
 }
 
-/// Short names for the settings enums, as on the command line.
-fn algorithm_name(a: Algorithm) -> &'static str {
-    match a {
-        Algorithm::Path => "pt",
-        Algorithm::Ppm => "ppm",
-        Algorithm::Sppm => "sppm",
-        Algorithm::Vcm => "vcm",
-    }
-}
-
+/// Short names for the settings enums, as on the command line (an algorithm's is
+/// [`Algorithm::name`]).
 fn light_strategy_name(s: LightStrategy) -> &'static str {
     match s {
         LightStrategy::Mis => "mis",
@@ -133,7 +125,7 @@ impl Provenance {
             version: env!("CARGO_PKG_VERSION").to_string(),
             scene: scene.to_string(),
             scene_hash: format!("{scene_hash:016x}"),
-            algorithm: algorithm_name(settings.algorithm).to_string(),
+            algorithm: settings.algorithm.name().to_string(),
             seed: settings.seed,
             width,
             height,
@@ -182,9 +174,7 @@ impl Provenance {
     /// changes no pixel, so a path-traced render continues with any `--photons`. (The
     /// algorithm itself is compared before any setting.)
     pub fn difference(&self, other: &Provenance) -> Option<String> {
-        let algorithm = Algorithm::ALL
-            .into_iter()
-            .find(|&a| algorithm_name(a) == self.algorithm);
+        let algorithm = self.algorithm.parse::<Algorithm>().ok();
         let read = |name: &str| match (algorithm, setting_named(name)) {
             (Some(a), Some(setting)) => a.reads(setting),
             _ => true,

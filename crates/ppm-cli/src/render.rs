@@ -1,92 +1,19 @@
-//! The render loop (shared by `ppm render` and `ppm converge`) and the render command.
+//! The render command: checks, the render loop with its observers, and the outputs.
 
-use crate::args::{AlgorithmArg, AovArg, RenderArgs, DEFAULT_ITERATIONS};
+use crate::args::{RenderArgs, DEFAULT_ITERATIONS};
 use crate::error_log::{ErrorLog, ErrorTracker};
 use crate::output::{self, OutputPaths};
 use crate::progress::{peak_rss_bytes, Progress, Summary};
 use crate::provenance::Provenance;
+use crate::render_loop::{render_loop, LoopTotals, StopRule};
 use crate::resume::{self, StartArgs};
 use crate::signal::Interrupt;
 use crate::state_file;
 use crate::{guard, memory, setup};
 use anyhow::{Context, Result};
-use ppm_core::integrator::{PassTimes, Renderer};
-use ppm_core::scene::Scene;
+use ppm_core::integrator::{Algorithm, Renderer};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
-
-/// When a render stops: after `iterations`, or after the iteration that crosses `time_limit`
-/// seconds of render time, whichever comes first.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct StopRule {
-    pub iterations: Option<u64>,
-    pub time_limit: Option<f64>,
-}
-
-impl StopRule {
-    /// True when a render with these totals is finished.
-    pub fn done(&self, iterations: u64, seconds: f64) -> bool {
-        self.iterations.is_some_and(|n| iterations >= n)
-            || self.time_limit.is_some_and(|t| seconds >= t)
-    }
-}
-
-/// Counts over all iterations so far.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct LoopTotals {
-    pub iterations: u64,
-    /// Render time: the sum of the iterations' times, without the observer's work.
-    pub seconds: f64,
-    pub rays: u64,
-    /// Closest-hit rays of the photon pass (included in `rays`).
-    pub photon_rays: u64,
-    pub shadow_rays: u64,
-    pub light_paths: u64,
-    pub photons: u64,
-    /// Render time by pass.
-    pub passes: PassTimes,
-    /// True if the loop stopped because of an interrupt.
-    pub interrupted: bool,
-}
-
-/// Renders iterations until `stop` says so or `interrupt` is raised, calling `after` after each
-/// with the renderer, the totals and whether it was the last iteration. The time `after` takes
-/// (error measurement, checkpoints) is not render time.
-///
-/// An interrupt abandons the iteration in progress (its passes poll the flag), so a stop
-/// request is seen within one parallel work item even when an iteration is very long; the
-/// renderer's image stays the average of the finished iterations. `after` is then called once
-/// more with `last` set, for the final measurement, if any iteration finished.
-pub fn render_loop(
-    scene: &Scene,
-    renderer: &mut Renderer,
-    stop: &StopRule,
-    interrupt: &Interrupt,
-    mut after: impl FnMut(&Renderer, &LoopTotals, bool) -> Result<()>,
-) -> Result<LoopTotals> {
-    let mut totals = LoopTotals::default();
-    while !stop.done(totals.iterations, totals.seconds) && !interrupt.requested() {
-        let start = Instant::now();
-        let Some(stats) = renderer.iterate_until(scene, &|| interrupt.requested()) else {
-            if totals.iterations > 0 {
-                after(renderer, &totals, true)?;
-            }
-            break;
-        };
-        totals.seconds += start.elapsed().as_secs_f64();
-        totals.iterations += 1;
-        totals.rays += stats.rays;
-        totals.photon_rays += stats.photon_rays;
-        totals.shadow_rays += stats.shadow_rays;
-        totals.light_paths += stats.light_paths;
-        totals.photons += stats.photons;
-        totals.passes.add(&stats.passes);
-        let last = stop.done(totals.iterations, totals.seconds) || interrupt.requested();
-        after(renderer, &totals, last)?;
-    }
-    totals.interrupted = interrupt.requested();
-    Ok(totals)
-}
 
 /// Writes the current image every `every` (wall-clock) while rendering.
 struct Checkpoints {
@@ -103,7 +30,7 @@ impl Checkpoints {
         if self.last.elapsed() >= self.every {
             let snapshot = renderer.snapshot();
             if let Err(e) =
-                state_file::write_outputs(paths, &renderer.image(), &snapshot, provenance)
+                state_file::write_image_and_state(paths, &renderer.image(), &snapshot, provenance)
             {
                 status!(
                     "\nwarning: checkpoint not written: {e:#}; the last good checkpoint is kept \
@@ -123,30 +50,27 @@ pub enum Outcome {
     Interrupted,
 }
 
-/// The options that depend on the algorithm: `--spp` (path tracing only; returns the
-/// iterations asked for) and `--aov` (photon mapping only).
-fn check_algorithm_options(args: &RenderArgs, algorithm: AlgorithmArg) -> Result<Option<u64>> {
+/// The options that depend on what the integrator supports ([`Algorithm::features`]):
+/// `--spp` (returns the iterations asked for), `--aov` and `--shard`.
+fn check_algorithm_options(args: &RenderArgs, algorithm: Algorithm) -> Result<Option<u64>> {
     let iterations = crate::report::requested_iterations(args, algorithm)?;
-    if !args.aov.is_empty() && algorithm == AlgorithmArg::Pt {
+    let features = algorithm.features();
+    if let Some(aov) = args.aov.iter().find(|a| !features.aovs.contains(&a.aov())) {
+        let writers = crate::report::names(|f| f.aovs.contains(&aov.aov()));
         usage_bail!(
-            "--aov {} needs photon mapping (-a ppm or -a sppm): the path tracer gathers no photons",
-            args.aov[0].name()
+            "--aov {} needs photon mapping (-a {writers}): {}",
+            aov.name(),
+            features.aov_refusal
         );
     }
-    if !args.aov.is_empty() && algorithm == AlgorithmArg::Vcm {
-        usage_bail!(
-            "--aov {} needs photon mapping (-a ppm or -a sppm): VCM merges with one radius for \
-             every pixel (the summary prints it) and weights its merges by MIS",
-            args.aov[0].name()
-        );
-    }
-    if let (Some((_, count)), AlgorithmArg::Sppm) = (args.shard, algorithm) {
+    if let (Some((index, count)), Some(refusal)) = (args.shard, features.shard_refusal) {
         if count > 1 {
             usage_bail!(
-                "--shard {}/{count}: sppm cannot be split into shards: each iteration's \
-                 per-pixel radii and statistics depend on all iterations before it. Shard \
-                 -a ppm or -a vcm, or continue an sppm render with --resume",
-                args.shard.map_or(0, |s| s.0)
+                "--shard {index}/{count}: {} cannot be split into shards: {refusal}. Shard \
+                 -a {}, or continue an {} render with --resume",
+                algorithm.name(),
+                crate::report::names(|f| f.shard_refusal.is_none()),
+                algorithm.name()
             );
         }
     }
@@ -209,7 +133,7 @@ pub fn run(args: &RenderArgs, interrupt: &Interrupt) -> Result<Outcome> {
         .transpose()?;
 
     let (mut scene, scene_hash) = setup::load_scene_hashed(&scene_path)?;
-    let algorithm = AlgorithmArg::resolve(args.algorithm, scene.defaults.algorithm);
+    let algorithm = crate::args::resolve_algorithm(args.algorithm, scene.defaults.algorithm);
     let iterations = check_algorithm_options(args, algorithm)?;
     setup::apply_resolution(
         &mut scene,
@@ -363,12 +287,7 @@ pub fn run(args: &RenderArgs, interrupt: &Interrupt) -> Result<Outcome> {
             let aovs: Vec<_> = args
                 .aov
                 .iter()
-                .filter_map(|&aov| match aov {
-                    AovArg::Radius => renderer.radius_image().map(|image| (aov, image)),
-                    AovArg::Photons => renderer
-                        .photon_count_image(&scene)
-                        .map(|image| (aov, image)),
-                })
+                .filter_map(|&aov| Some((aov, renderer.aov_image(aov.aov(), &scene)?)))
                 .collect();
             Ok((
                 totals,
@@ -395,7 +314,7 @@ pub fn run(args: &RenderArgs, interrupt: &Interrupt) -> Result<Outcome> {
         );
         return Ok(Outcome::Interrupted);
     }
-    crate::rescue::write_outputs(&paths, &image, &snapshot, &provenance_after(&totals))?;
+    crate::rescue::write_or_rescue(&paths, &image, &snapshot, &provenance_after(&totals))?;
     info!("wrote {} and {}", paths.png.display(), paths.exr.display());
     for (aov, aov_image) in &aovs {
         let path = paths.aov(aov.name());
@@ -450,32 +369,4 @@ pub fn run(args: &RenderArgs, interrupt: &Interrupt) -> Result<Outcome> {
 
 fn display(path: Option<&Path>) -> String {
     path.map(|p| p.display().to_string()).unwrap_or_default()
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn stop_rule_stops_at_the_first_limit_reached() {
-        let n = StopRule {
-            iterations: Some(3),
-            time_limit: None,
-        };
-        assert!(!n.done(2, 1e9) && n.done(3, 0.0));
-        let t = StopRule {
-            iterations: None,
-            time_limit: Some(1.5),
-        };
-        assert!(!t.done(1_000_000, 1.49) && t.done(1, 1.5));
-        let both = StopRule {
-            iterations: Some(10),
-            time_limit: Some(1.0),
-        };
-        assert!(both.done(10, 0.1) && both.done(2, 1.0) && !both.done(9, 0.9));
-        assert!(
-            !StopRule::default().done(u64::MAX, f64::MAX),
-            "no limit: only an interrupt stops"
-        );
-    }
 }

@@ -1,96 +1,51 @@
 //! What a render used, in words: the settings line of the summary (seed, photons, radius) and
 //! the `-v` lines printed before rendering.
 
-use crate::args::{AlgorithmArg, RenderArgs};
+use crate::args::RenderArgs;
 use anyhow::Result;
-use ppm_core::integrator::{Algorithm, DirectMode, Radius, RadiusSchedule, RenderSettings};
+use ppm_core::integrator::{Algorithm, Features, RenderSettings};
 use ppm_core::pixel_bounds::PixelBounds;
 use std::ops::Range;
 use std::path::Path;
 
-/// The iterations a render with `algorithm` asks for: `-n`, or `--spp` (path tracing only:
-/// one sample per pixel per iteration, so N samples per pixel are N iterations).
-pub fn requested_iterations(args: &RenderArgs, algorithm: AlgorithmArg) -> Result<Option<u64>> {
-    match (args.spp, algorithm.algorithm()) {
-        (None, _) => Ok(args.iterations),
-        (Some(spp), Algorithm::Path) => Ok(Some(spp)),
-        (Some(_), Algorithm::Ppm | Algorithm::Sppm | Algorithm::Vcm) => usage_bail!(
-            "--spp is for the path tracer (-a pt), where it equals -n. Photon mapping (-a ppm) \
+/// The iterations a render with `algorithm` asks for: `-n`, or `--spp` (for an integrator
+/// that takes one sample per pixel per iteration, so N samples per pixel are N iterations).
+pub fn requested_iterations(args: &RenderArgs, algorithm: Algorithm) -> Result<Option<u64>> {
+    match args.spp {
+        None => Ok(args.iterations),
+        Some(spp) if algorithm.features().sample_per_iteration => Ok(Some(spp)),
+        Some(_) => usage_bail!(
+            "--spp is for the path tracer (-a {}), where it equals -n. Photon mapping (-a ppm) \
              and VCM (-a vcm) render in iterations, each one camera path per pixel gathering a new photon map \
-             with a smaller radius: give -n ITERATIONS instead"
+             with a smaller radius: give -n ITERATIONS instead",
+            names(|f| f.sample_per_iteration)
         ),
     }
 }
 
-/// The radius `ppm` used in iteration `iteration` (1-based): in scene units for a world
-/// radius; for `auto` the factor every pixel's footprint radius has shrunk by.
-pub fn radius_at(settings: &RenderSettings, iteration: u64) -> f32 {
-    let start = match settings.radius {
-        Radius::World(r) => r,
-        Radius::Auto => 1.0,
-    };
-    let mut schedule = RadiusSchedule::new(start, settings.alpha);
-    for _ in 1..iteration.max(1) {
-        schedule.advance();
-    }
-    schedule.radius()
+/// The names of the algorithms whose features `have`, as `-a` takes them: `ppm or -a sppm`.
+pub fn names(have: impl Fn(&Features) -> bool) -> String {
+    Algorithm::ALL
+        .into_iter()
+        .filter(|a| have(&a.features()))
+        .map(Algorithm::name)
+        .collect::<Vec<_>>()
+        .join(" or -a ")
 }
 
 /// The summary's settings line, e.g. `seed 1, 200000 photons (light paths) per iteration,
 /// radius 0.03 -> 0.0112 (alpha 0.7), direct light sampled, max depth 32, 2 threads` for
 /// photon mapping and `seed 1, 16 samples per pixel, max depth 32, 2 threads` for the path
-/// tracer. `image` is the range of iterations (0-based) the image holds: a resumed render's
-/// or a shard's radii are those of its own iterations (a shard of iterations 4..8 of a render
-/// used r_5 to r_8), and its samples per pixel are all those in the image.
+/// tracer: the integrator's own words ([`Algorithm::settings_words`]) for `image`, the range
+/// of iterations (0-based) the image holds (a resumed render's or a shard's radii are those of
+/// its own iterations, and its samples per pixel are all those in the image).
 pub fn settings_line(settings: &RenderSettings, image: Range<u64>, threads: usize) -> String {
-    let iterations = image.end - image.start;
-    let common = format!(
-        "max depth {}, {threads} thread{}",
+    format!(
+        "{}, max depth {}, {threads} thread{}",
+        settings.algorithm.settings_words(settings, image),
         settings.max_depth,
         if threads == 1 { "" } else { "s" }
-    );
-    match settings.algorithm {
-        Algorithm::Path => format!(
-            "seed {}, {iterations} sample{} per pixel, {common}",
-            settings.seed,
-            if iterations == 1 { "" } else { "s" }
-        ),
-        Algorithm::Ppm | Algorithm::Sppm => format!(
-            "seed {}, {} photons (light paths) per iteration, radius {} (alpha {}), \
-             direct light {}, {common}",
-            settings.seed,
-            settings.photons,
-            radius_words(settings, image.clone()),
-            settings.alpha,
-            match settings.direct {
-                DirectMode::Photons => "from photons",
-                DirectMode::Sampled => "sampled",
-            }
-        ),
-        Algorithm::Vcm => format!(
-            "seed {}, one light path per pixel per iteration, merge radius {} (alpha {}), \
-             {common}",
-            settings.seed,
-            radius_words(settings, image.clone()),
-            settings.alpha,
-        ),
-    }
-}
-
-/// The radius part of the settings line: `ppm`'s first -> last radius (world) or factor
-/// (`auto`), or for `sppm` the start (each pixel's radius then shrinks with its own photons).
-fn radius_words(settings: &RenderSettings, image: Range<u64>) -> String {
-    let first = radius_at(settings, image.start + 1);
-    let last = radius_at(settings, image.end);
-    match (settings.algorithm, settings.radius) {
-        (Algorithm::Sppm, Radius::World(r)) => format!("{r} at the start, then per pixel"),
-        (Algorithm::Sppm, Radius::Auto) => "auto (per pixel)".to_string(),
-        (Algorithm::Vcm, Radius::Auto) => {
-            format!("auto (median footprint), shrunk x{first} -> x{last}")
-        }
-        (_, Radius::World(_)) => format!("{first} -> {last}"),
-        (_, Radius::Auto) => format!("auto (per pixel), shrunk x{first} -> x{last}"),
-    }
+    )
 }
 
 /// The `-v` lines: where the scene was found, the image and the crop window.
@@ -113,7 +68,7 @@ pub fn verbose_lines(scene_path: &Path, width: u32, height: u32, bounds: &PixelB
 #[cfg(test)]
 mod tests {
     use super::*;
-    use ppm_core::integrator::LightStrategy;
+    use ppm_core::integrator::{DirectMode, LightStrategy, Radius};
 
     fn settings(algorithm: Algorithm) -> RenderSettings {
         RenderSettings {
@@ -144,7 +99,10 @@ mod tests {
             ) && line.ends_with("(alpha 0.5), direct light sampled, max depth 8, 1 thread"),
             "{line}"
         );
-        assert_eq!(radius_at(&settings(Algorithm::Ppm), 1), 0.04);
+        assert_eq!(
+            settings(Algorithm::Ppm).radius_schedule_at(1).radius(),
+            0.04
+        );
         // A resumed render or a shard holding iterations 2..3: r_3 only, one sample.
         let line = settings_line(&settings(Algorithm::Ppm), 2..3, 1);
         assert!(

@@ -22,19 +22,19 @@ use std::path::{Path, PathBuf};
 /// Writes the render's PNG and EXR to `paths`; if that fails, to the first rescue folder that
 /// takes them. The error of a failed write names the rescued files, or says that no rescue
 /// folder could take them and why.
-pub fn write_outputs(
+pub fn write_or_rescue(
     paths: &OutputPaths,
     image: &Image,
     snapshot: &Snapshot,
     provenance: &Provenance,
 ) -> Result<()> {
-    let Err(error) = state_file::write_outputs(paths, image, snapshot, provenance) else {
+    let Err(error) = state_file::write_image_and_state(paths, image, snapshot, provenance) else {
         return Ok(());
     };
     let mut failures = Vec::new();
     for folder in rescue_folders(paths) {
         let rescued = rescue_paths(paths, &folder, |p| p.exists());
-        match state_file::write_outputs(&rescued, image, snapshot, provenance) {
+        match state_file::write_image_and_state(&rescued, image, snapshot, provenance) {
             Ok(()) => {
                 return Err(error.context(format!(
                     "the render is safe in {} and {} (continue it with --resume {})",

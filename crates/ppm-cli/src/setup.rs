@@ -1,9 +1,9 @@
 //! From command-line arguments to a scene and render settings: finding and loading the scene
 //! file, the resolution, setting overrides and the thread pool.
 
-use crate::args::{AlgorithmArg, SettingsArgs};
+use crate::args::SettingsArgs;
 use anyhow::{bail, Context, Result};
-use ppm_core::integrator::{Algorithm, RenderSettings, Setting, MAX_DEPTH};
+use ppm_core::integrator::{bounded_depth, Algorithm, RenderSettings, Setting, MAX_DEPTH};
 use ppm_core::scene::Scene;
 use std::path::{Path, PathBuf};
 
@@ -111,33 +111,26 @@ pub fn apply_resolution(
 }
 
 /// The scene's render defaults with the command line's overrides.
-pub fn render_settings(
-    scene: &Scene,
-    algorithm: AlgorithmArg,
-    args: &SettingsArgs,
-) -> RenderSettings {
-    let mut settings = RenderSettings::for_algorithm(scene, algorithm.algorithm());
+pub fn render_settings(scene: &Scene, algorithm: Algorithm, args: &SettingsArgs) -> RenderSettings {
+    let mut settings = RenderSettings::for_algorithm(scene, algorithm);
     apply_overrides(&mut settings, algorithm, args);
     settings
 }
 
-/// Overrides the settings the command line sets.
-pub fn apply_overrides(
-    settings: &mut RenderSettings,
-    algorithm: AlgorithmArg,
-    args: &SettingsArgs,
-) {
-    settings.algorithm = algorithm.algorithm();
+/// Overrides the settings the command line sets, then normalises them
+/// ([`RenderSettings::normalised`]: what the render uses is what the saved render records),
+/// with a warning when a depth above the bound was asked for.
+pub fn apply_overrides(settings: &mut RenderSettings, algorithm: Algorithm, args: &SettingsArgs) {
+    settings.algorithm = algorithm;
     settings.seed = args.seed;
     if let Some(v) = args.max_depth {
         settings.max_depth = v;
     }
-    if settings.max_depth > MAX_DEPTH {
+    if bounded_depth(settings.max_depth) != settings.max_depth {
         status!(
             "warning: max_depth {} is above the supported {MAX_DEPTH} bounces; using {MAX_DEPTH}",
             settings.max_depth
         );
-        settings.max_depth = MAX_DEPTH;
     }
     if let Some(v) = args.photons {
         settings.photons = v;
@@ -154,6 +147,7 @@ pub fn apply_overrides(
     if let Some(v) = args.light_strategy {
         settings.light_strategy = v.into();
     }
+    *settings = settings.normalised();
 }
 
 /// The flag that sets `setting`, and whether the command line gave it.
@@ -170,16 +164,13 @@ fn flag(args: &SettingsArgs, setting: Setting) -> (&'static str, bool) {
 /// Warns about each flag given that none of `algorithms` reads ([`Algorithm::reads`]): it
 /// changes nothing in the image, which a user who gave it would not expect. A warning, not an
 /// error: scripts that pass one set of flags to every algorithm keep working.
-pub fn warn_unread_flags(args: &SettingsArgs, algorithms: &[AlgorithmArg]) {
+pub fn warn_unread_flags(args: &SettingsArgs, algorithms: &[Algorithm]) {
     for setting in Setting::ALL {
         let (name, given) = flag(args, setting);
-        if !given || algorithms.iter().any(|a| a.algorithm().reads(setting)) {
+        if !given || algorithms.iter().any(|a| a.reads(setting)) {
             continue;
         }
-        let readers = Algorithm::ALL
-            .into_iter()
-            .filter(|a| a.reads(setting))
-            .map(AlgorithmArg::from_algorithm);
+        let readers = Algorithm::ALL.into_iter().filter(|a| a.reads(setting));
         status!(
             "warning: {name} has no effect with -a {} and is ignored (it is read by {})",
             names(algorithms.iter().copied()),
@@ -189,15 +180,16 @@ pub fn warn_unread_flags(args: &SettingsArgs, algorithms: &[AlgorithmArg]) {
 }
 
 /// The algorithms' command-line names, comma-separated.
-fn names(algorithms: impl Iterator<Item = AlgorithmArg>) -> String {
+fn names(algorithms: impl Iterator<Item = Algorithm>) -> String {
     algorithms.map(|a| a.name()).collect::<Vec<_>>().join(", ")
 }
 
-/// Warns when the path tracer renders a scene whose delta-light (point or spot) paths through
-/// a mirror or glass surface it cannot sample (it is offered as the reference, so the missing
-/// light would otherwise pass for the truth).
-pub fn warn_missing_light(scene: &Scene, algorithm: AlgorithmArg, scene_path: &Path) {
-    if algorithm == AlgorithmArg::Pt && scene.has_delta_light_behind_specular() {
+/// Warns when an integrator that cannot sample delta-light (point or spot) paths through a
+/// mirror or glass surface ([`ppm_core::integrator::Features::delta_light_caustics`]: the path
+/// tracer) renders a scene that has them (it is offered as the reference, so the missing light
+/// would otherwise pass for the truth).
+pub fn warn_missing_light(scene: &Scene, algorithm: Algorithm, scene_path: &Path) {
+    if !algorithm.features().delta_light_caustics && scene.has_delta_light_behind_specular() {
         status!(
             "warning: {} has a point or spot light and a mirror or glass surface: the path \
              tracer cannot render point-light light that passes a mirror or glass before a \
@@ -299,7 +291,7 @@ mod tests {
             direct: DirectMode::Photons,
         };
         let mut s = defaults.clone();
-        apply_overrides(&mut s, AlgorithmArg::Pt, &SettingsArgs::default());
+        apply_overrides(&mut s, Algorithm::Path, &SettingsArgs::default());
         assert_eq!(s.algorithm, Algorithm::Path);
         assert_eq!(
             (s.photons, s.radius, s.alpha, s.max_depth),
@@ -320,7 +312,7 @@ mod tests {
             light_strategy: Some(LightStrategyArg::Bsdf),
             ..SettingsArgs::default()
         };
-        apply_overrides(&mut s, AlgorithmArg::Ppm, &args);
+        apply_overrides(&mut s, Algorithm::Ppm, &args);
         assert_eq!(s.algorithm, Algorithm::Ppm);
         assert_eq!(
             (s.seed, s.photons, s.radius, s.alpha, s.max_depth),

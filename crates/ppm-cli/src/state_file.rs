@@ -119,7 +119,7 @@ fn sum_words(sums: &[[u128; 3]]) -> usize {
 
 /// Writes the PNG and the EXR (with state) of a render as a pair: neither replaces its
 /// target unless both were written in full.
-pub fn write_outputs(
+pub fn write_image_and_state(
     paths: &output::OutputPaths,
     image: &Image,
     snapshot: &Snapshot,

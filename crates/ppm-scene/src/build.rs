@@ -4,14 +4,13 @@
 use crate::error::LoadError;
 use crate::obj::{self, ObjMaterials};
 use crate::yaml::{
-    AlgorithmName, LightDesc, LightType, MaterialDesc, MaterialType, ObjectDesc, ObjectType,
-    SceneFile,
+    LightDesc, LightType, MaterialDesc, MaterialType, ObjectDesc, ObjectType, SceneFile,
 };
 use glam::{DVec3, Vec3};
 use ppm_core::bsdf::{Bsdf, Phong};
 use ppm_core::camera::Camera;
 use ppm_core::geometry::{Sphere, TriangleMesh};
-use ppm_core::integrator::{Algorithm, MAX_DEPTH};
+use ppm_core::integrator::{bounded_depth, MAX_DEPTH};
 use ppm_core::light::{Light, PointLight};
 use ppm_core::material::Material;
 use ppm_core::scene::{RenderDefaults, SceneBuilder};
@@ -142,8 +141,8 @@ pub fn build(
     let mut defaults = RenderDefaults::default();
     if let Some(r) = file.render {
         if let Some(d) = r.max_depth {
-            defaults.max_depth = d.0.min(MAX_DEPTH);
-            if d.0 > MAX_DEPTH {
+            defaults.max_depth = bounded_depth(d.0);
+            if defaults.max_depth != d.0 {
                 warnings.push(format!(
                     "{}: render.max_depth: {} is above the supported {MAX_DEPTH} bounces; \
                      using {MAX_DEPTH}",
@@ -163,12 +162,7 @@ pub fn build(
             defaults.alpha = a.0;
         }
         if let Some(a) = r.algorithm {
-            defaults.algorithm = Some(match a {
-                AlgorithmName::Pt => Algorithm::Path,
-                AlgorithmName::Ppm => Algorithm::Ppm,
-                AlgorithmName::Sppm => Algorithm::Sppm,
-                AlgorithmName::Vcm => Algorithm::Vcm,
-            });
+            defaults.algorithm = Some(a.0);
         }
     }
     builder.defaults = defaults;

@@ -8,6 +8,7 @@ use crate::values::{
     Alpha, Count, Depth, FieldOfView, GatherRadius, NonNegative, Num, Point, Positive, Reflectance,
     Resolution, Triple,
 };
+use ppm_core::integrator::Algorithm;
 use serde::de::{self, DeserializeSeed, Deserializer, MapAccess, Visitor};
 use serde::Deserialize;
 use std::fmt;
@@ -124,14 +125,20 @@ pub struct RenderDesc {
     pub algorithm: Option<AlgorithmName>,
 }
 
-/// `render.algorithm`: the integrator, named as on the command line (`-a`).
-#[derive(Deserialize, Clone, Copy, Debug, PartialEq, Eq)]
-#[serde(rename_all = "lowercase")]
-pub enum AlgorithmName {
-    Pt,
-    Ppm,
-    Sppm,
-    Vcm,
+/// `render.algorithm`: the integrator, named as on the command line (`-a`): a name or an
+/// alias of [`Algorithm::TABLE`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct AlgorithmName(pub Algorithm);
+
+impl<'de> Deserialize<'de> for AlgorithmName {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        // Borrowed or owned, as the YAML reader gives it; an unknown name is reported as
+        // serde reports an unknown variant, with the names to choose from.
+        let name = std::borrow::Cow::<str>::deserialize(d)?;
+        name.parse()
+            .map(AlgorithmName)
+            .map_err(|_| de::Error::unknown_variant(&name, &Algorithm::NAMES))
+    }
 }
 
 /// A seed that rejects the definition of a material name seen before.

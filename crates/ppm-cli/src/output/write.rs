@@ -28,7 +28,7 @@ fn pending_png_rgb8(path: &Path, width: u32, height: u32, rgb: &[u8]) -> Result<
 }
 
 /// Writes an image as an sRGB 8-bit PNG, atomically (renders write PNG and EXR as a pair with
-/// [`crate::state_file::write_outputs`]).
+/// [`crate::state_file::write_image_and_state`]).
 #[cfg(test)]
 pub fn write_png(path: &Path, image: &Image) -> Result<()> {
     pending_png(path, image)?.commit()

@@ -2,9 +2,9 @@
 //!
 //! A front end compares [`MemoryEstimate::total`] with the memory it has and refuses a render
 //! that cannot fit, instead of letting the allocator abort the process half-way. Each
-//! integrator owns its estimate (`PathTracer::memory_estimate`,
-//! `PpmRenderer::memory_estimate`), next to the code that allocates, so a new integrator
-//! states its own; [`super::Renderer::memory_estimate`] dispatches on the algorithm.
+//! integrator owns its estimate ([`super::Integrator::memory_estimate`]), next to the code
+//! that allocates, so a new integrator states its own; [`super::Algorithm::memory_estimate`]
+//! and [`super::Renderer::memory_estimate`] dispatch on the algorithm.
 //!
 //! The estimate counts the render state's large buffers and one copy of the image (what
 //! `Renderer::image` returns). It is a lower bound where a buffer grows on demand: the photon

@@ -1,5 +1,6 @@
 //! What the user asked for: the render settings, separate from the scene and the render state.
 
+use super::{Algorithm, RadiusSchedule};
 use crate::scene::Scene;
 
 /// The longest path any render traces, in bounces. A longer `max_depth` is clamped to it: in a
@@ -9,73 +10,11 @@ use crate::scene::Scene;
 /// 512x512 mirror box under a few seconds.
 pub const MAX_DEPTH: u32 = 1024;
 
-/// Which integrator renders the image.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Algorithm {
-    /// Unidirectional path tracing with next-event estimation and MIS (`-a pt`).
-    Path,
-    /// Progressive photon mapping (`-a ppm`, the default).
-    Ppm,
-    /// Stochastic progressive photon mapping (`-a sppm`): per-pixel radii and statistics,
-    /// photons splatted into the camera paths' visible points and never stored.
-    Sppm,
-    /// Vertex connection and merging (`-a vcm`, Georgiev et al. 2012): bidirectional path
-    /// tracing and photon mapping combined by MIS; one light subpath per pixel per iteration.
-    Vcm,
-}
-
-impl Algorithm {
-    /// Every integrator, for tests and harnesses that check each one: a new integrator
-    /// added here gets all of their checks.
-    pub const ALL: [Algorithm; 4] = [
-        Algorithm::Path,
-        Algorithm::Ppm,
-        Algorithm::Sppm,
-        Algorithm::Vcm,
-    ];
-}
-
-/// A render setting that some integrators read and the others ignore (the seed, the depths
-/// and the resolution every integrator reads).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Setting {
-    /// [`RenderSettings::photons`] (`--photons`).
-    Photons,
-    /// [`RenderSettings::radius`] (`--radius`).
-    Radius,
-    /// [`RenderSettings::alpha`] (`--alpha`).
-    Alpha,
-    /// [`RenderSettings::direct`] (`--direct`).
-    Direct,
-    /// [`RenderSettings::light_strategy`] (`--light-strategy`).
-    LightStrategy,
-}
-
-impl Setting {
-    /// Every setting that not all integrators read.
-    pub const ALL: [Setting; 5] = [
-        Setting::Photons,
-        Setting::Radius,
-        Setting::Alpha,
-        Setting::Direct,
-        Setting::LightStrategy,
-    ];
-}
-
-impl Algorithm {
-    /// True if the integrator reads `setting`; an integrator that does not renders the same
-    /// image whatever its value (the test `each_integrator_reads_the_settings_it_declares`
-    /// renders both ways). The path tracer traces no photons and merges nothing; VCM traces
-    /// one light path per pixel and lights every vertex by its own MIS (no `photons`, no
-    /// `direct`); the photon mappers take the light strategy of their eye paths as fixed.
-    pub fn reads(self, setting: Setting) -> bool {
-        use Algorithm::{Path, Ppm, Sppm, Vcm};
-        match setting {
-            Setting::Photons | Setting::Direct => matches!(self, Ppm | Sppm),
-            Setting::Radius | Setting::Alpha => matches!(self, Ppm | Sppm | Vcm),
-            Setting::LightStrategy => matches!(self, Path),
-        }
-    }
+/// `max_depth` as renders use it: at most [`MAX_DEPTH`]. The one place the bound is applied
+/// (the scene loader and the command line call it to warn about a larger value they were
+/// given; [`RenderSettings::normalised`] for every render).
+pub fn bounded_depth(max_depth: u32) -> u32 {
+    max_depth.min(MAX_DEPTH)
 }
 
 /// Light paths per photon-mapping iteration when neither the scene nor the command line
@@ -132,8 +71,8 @@ pub struct RenderSettings {
     /// Seed of every random stream.
     pub seed: u64,
     /// Most bounces between the camera and a light, whichever technique built the path (0:
-    /// only emission seen directly; Mitsuba's `max_depth` minus 1); the integrators clamp it
-    /// to [`MAX_DEPTH`].
+    /// only emission seen directly; Mitsuba's `max_depth` minus 1); renders use at most
+    /// [`MAX_DEPTH`] ([`RenderSettings::normalised`]).
     pub max_depth: u32,
     /// Russian roulette starts after this many bounces.
     pub rr_depth: u32,
@@ -159,7 +98,7 @@ impl RenderSettings {
     pub fn new(scene: &Scene) -> Self {
         let d = scene.defaults;
         RenderSettings {
-            algorithm: d.algorithm.unwrap_or(Algorithm::Ppm),
+            algorithm: d.algorithm.unwrap_or(Algorithm::DEFAULT),
             seed: 0,
             max_depth: d.max_depth,
             rr_depth: 3,
@@ -187,5 +126,28 @@ impl RenderSettings {
             settings.photons = pixels.clamp(1, u32::MAX as u64) as u32;
         }
         settings
+    }
+
+    /// The settings every integrator renders with: `max_depth` at most [`MAX_DEPTH`]
+    /// ([`bounded_depth`]). `Renderer` normalises what it is given, so an integrator never
+    /// sees a larger depth; a front end that records the settings (in a saved render's
+    /// header) normalises them first, so that the record is what was rendered.
+    pub fn normalised(&self) -> Self {
+        RenderSettings {
+            max_depth: bounded_depth(self.max_depth),
+            ..self.clone()
+        }
+    }
+
+    /// The radius schedule at the 1-based `iteration` (Knaus and Zwicker's r_i for a world
+    /// radius; for `auto` the factor s_i every pixel's own r_1 has shrunk by, started at 1):
+    /// the one place the schedule's start is read from the settings, so that every render,
+    /// shard and summary of these settings uses the same radii bit for bit.
+    pub fn radius_schedule_at(&self, iteration: u64) -> RadiusSchedule {
+        let start = match self.radius {
+            Radius::World(r) => r,
+            Radius::Auto => 1.0,
+        };
+        RadiusSchedule::at_iteration(start, self.alpha, iteration)
     }
 }

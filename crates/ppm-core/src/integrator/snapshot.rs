@@ -1,8 +1,8 @@
 //! The render state a render needs to continue exactly where it stopped, or to be joined with
 //! renders of other iterations: what `--resume`, `--shard` and `ppm merge` save and read.
 //!
-//! Each integrator owns what it saves (`snapshot`, `from_snapshot` on each of them, dispatched
-//! by [`super::Renderer`]):
+//! Each integrator owns what it saves ([`super::Integrator::snapshot`] and
+//! [`super::Integrator::from_snapshot`]; by default the film, [`super::RenderStart::resumed`]):
 //! - the path tracer and progressive photon mapping save the film only: every iteration is an
 //!   independent estimate given (seed, iteration), and the photon-mapping radius of iteration
 //!   i is a function of i alone ([`super::RadiusSchedule::at_iteration`]). Their snapshots
@@ -61,13 +61,11 @@ impl Snapshot {
 
     /// Bytes of the snapshot of a `width` x `height` render by `algorithm`
     /// ([`crate::integrator::Renderer::snapshot`]): the film's exact sums and the per-pixel
-    /// channels (SPPM's statistics). A render's end holds it beside the renderer, and writing
-    /// it copies it once more, so the memory check counts it before the render starts.
+    /// channels ([`super::Features::snapshot_channels`]: SPPM's statistics). A render's end
+    /// holds it beside the renderer, and writing it copies it once more, so the memory check
+    /// counts it before the render starts.
     pub fn estimate_bytes(width: u32, height: u32, algorithm: Algorithm) -> u64 {
-        let channels = match algorithm {
-            Algorithm::Sppm => crate::integrator::sppm::snapshot::CHANNELS,
-            Algorithm::Path | Algorithm::Ppm | Algorithm::Vcm => 0,
-        };
+        let channels = algorithm.features().snapshot_channels;
         let per_pixel = std::mem::size_of::<[u128; 3]>() + channels * std::mem::size_of::<u32>();
         (width as u64 * height as u64).saturating_mul(per_pixel as u64)
     }

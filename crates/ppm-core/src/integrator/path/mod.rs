@@ -6,19 +6,18 @@
 mod tracer;
 
 use super::camera_walk::RayCounters;
+use super::runner::reduce_until;
 use super::task_order::interleaved;
 use super::{
-    image_bytes, IterationStats, MemoryEstimate, MemoryPart, PassTimes, RenderSettings, Snapshot,
-    Stopwatch, MAX_DEPTH,
+    image_bytes, Features, Integrator, IterationStats, MemoryEstimate, MemoryPart, PassTimes,
+    RenderSettings, RenderStart, Stop, Stopwatch,
 };
 use crate::film::Film;
 use crate::pixel_bounds::PixelBounds;
 use crate::sampling::Rng;
 use crate::scene::Scene;
-use crate::StateError;
 use glam::{Vec2, Vec3};
-use rayon::prelude::*;
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::ops::Range;
 
 /// Rows per parallel work item: small enough to balance two to many threads, large enough to
 /// amortise scheduling.
@@ -34,55 +33,46 @@ pub struct PathTracer {
     estimates: Vec<Vec3>,
 }
 
-impl PathTracer {
-    /// A fresh render; `max_depth` is clamped to [`MAX_DEPTH`].
-    pub fn new(scene: &Scene, settings: RenderSettings) -> Self {
-        let (w, h) = (scene.camera.width, scene.camera.height);
-        Self::with_bounds(settings, PixelBounds::full(w, h))
-    }
-
-    /// A fresh render of the pixels in `bounds` only (see [`PixelBounds`]).
-    pub fn with_bounds(settings: RenderSettings, bounds: PixelBounds) -> Self {
-        let mut settings = settings;
-        settings.max_depth = settings.max_depth.min(MAX_DEPTH);
-        PathTracer {
-            settings,
-            film: Film::new(bounds.width(), bounds.height()),
-            bounds,
-            estimates: vec![Vec3::ZERO; bounds.len()],
+impl Integrator for PathTracer {
+    fn features() -> Features {
+        Features {
+            aovs: &[],
+            aov_refusal: "the path tracer gathers no photons",
+            shard_refusal: None,
+            sample_per_iteration: true,
+            photon_map: false,
+            delta_light_caustics: false,
+            snapshot_channels: 0,
         }
     }
 
-    /// What [`PathTracer::new`] allocates for a `width` x `height` image: the per-pixel
-    /// buffers only.
-    pub fn memory_estimate(width: u32, height: u32, _settings: &RenderSettings) -> MemoryEstimate {
+    /// The per-pixel buffers only.
+    fn memory_estimate(width: u32, height: u32, _settings: &RenderSettings) -> MemoryEstimate {
         let mut estimate = MemoryEstimate::default();
         estimate.add(MemoryPart::Image, image_bytes(width, height));
         estimate
     }
 
-    /// A render continuing from `snapshot`: the path tracer carries nothing but the film
-    /// between iterations, and iteration i's paths depend on (seed, i, pixel) alone.
-    pub fn from_snapshot(
-        scene: &Scene,
-        settings: RenderSettings,
-        snapshot: Snapshot,
-    ) -> Result<Self, StateError> {
-        let (w, h) = (scene.camera.width, scene.camera.height);
-        let film = snapshot.into_film(w, h)?;
-        let mut settings = settings;
-        settings.max_depth = settings.max_depth.min(MAX_DEPTH);
-        Ok(PathTracer {
-            settings,
-            film,
-            bounds: PixelBounds::full(w, h),
-            estimates: vec![Vec3::ZERO; (w * h) as usize],
-        })
+    /// `seed 1, 16 samples per pixel`: every iteration in the image is one sample.
+    fn settings_words(settings: &RenderSettings, image: Range<u64>) -> String {
+        let samples = image.end - image.start;
+        format!(
+            "seed {}, {samples} sample{} per pixel",
+            settings.seed,
+            if samples == 1 { "" } else { "s" }
+        )
     }
 
-    /// What [`PathTracer::from_snapshot`] needs to continue: the film.
-    pub fn snapshot(&self) -> Snapshot {
-        Snapshot::of_film(&self.film)
+    /// A render from `start`: the path tracer carries nothing but the film between
+    /// iterations (the default [`Integrator::from_snapshot`]), and iteration i's paths depend
+    /// on (seed, i, pixel) alone.
+    fn start(start: RenderStart) -> Self {
+        PathTracer {
+            settings: start.settings,
+            film: start.film,
+            bounds: start.bounds,
+            estimates: vec![Vec3::ZERO; start.bounds.len()],
+        }
     }
 
     /// Traces one path through every pixel and adds the result to the film.
@@ -93,28 +83,20 @@ impl PathTracer {
     ///
     /// Abandoned (film untouched, `None`) if `stop` says yes before
     /// one of the iteration's tiles starts.
-    pub fn iterate_until<F: Fn() -> bool + Sync>(
-        &mut self,
-        scene: &Scene,
-        stop: &F,
-    ) -> Option<IterationStats> {
+    fn iterate_until(&mut self, scene: &Scene, stop: Stop) -> Option<IterationStats> {
         let iteration = self.film.next_iteration();
         let width = scene.camera.width as usize;
         let settings = &self.settings;
-        let abandoned = AtomicBool::new(false);
         let bounds = self.bounds;
         let mut clock = Stopwatch::start();
         let tiles = self
             .estimates
             .chunks_mut(bounds.width() as usize * TILE_ROWS);
-        let counters = interleaved(tiles)
-            .into_par_iter()
-            .map(|(tile, rows)| {
+        let counters = reduce_until(
+            interleaved(tiles),
+            stop,
+            |(tile, rows)| {
                 let mut counters = RayCounters::default();
-                if stop() {
-                    abandoned.store(true, Ordering::Relaxed);
-                    return counters;
-                }
                 for (i, out) in rows.iter_mut().enumerate() {
                     let pixel = bounds.full_index(tile * bounds.width() as usize * TILE_ROWS + i);
                     let mut rng = Rng::new(settings.seed, iteration, pixel as u64);
@@ -124,12 +106,9 @@ impl PathTracer {
                     *out = tracer::radiance(scene, settings, ray, &mut rng, &mut counters);
                 }
                 counters
-            })
-            .reduce(RayCounters::default, RayCounters::merge);
-        // The parallel iterator has joined: every store above is visible here.
-        if abandoned.load(Ordering::Relaxed) {
-            return None;
-        }
+            },
+            RayCounters::merge,
+        )?;
         let eye = clock.lap();
         let before = self.film.rejected();
         self.film.add_iteration(&self.estimates);
@@ -149,17 +128,17 @@ impl PathTracer {
 
     /// The per-pixel estimates of the last iteration alone (row-major), for variance
     /// estimates in statistical tests.
-    pub fn last_estimates(&self) -> &[Vec3] {
+    fn last_estimates(&self) -> &[Vec3] {
         &self.estimates
     }
 
     /// The accumulated image.
-    pub fn film(&self) -> &Film {
+    fn film(&self) -> &Film {
         &self.film
     }
 
     /// Bytes held by the render state.
-    pub fn memory_bytes(&self) -> usize {
+    fn memory_bytes(&self) -> usize {
         self.estimates.len() * std::mem::size_of::<Vec3>() + self.film.memory_bytes()
     }
 }

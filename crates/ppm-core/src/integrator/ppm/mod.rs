@@ -26,21 +26,21 @@ pub use eye_pass::{density_estimate, gather_limit, GatherContext};
 
 use super::camera_walk::RayCounters;
 use super::footprint::{pilot_points, pilot_radii, quantile};
+use super::runner::reduce_until;
 use super::task_order::interleaved;
 use super::{
-    image_bytes, trace_light_path, IterationStats, MemoryEstimate, MemoryPart, PassTimes,
-    PhotonCounters, Radius, RadiusSchedule, RenderSettings, Snapshot, Stopwatch, BYTES_PER_PHOTON,
-    MAX_DEPTH, MAX_LIGHT_PATHS, PHOTONS_PER_PATH,
+    image_bytes, summary, trace_light_path, Aov, Features, Integrator, IterationStats,
+    MemoryEstimate, MemoryPart, PassTimes, PhotonCounters, Radius, RadiusSchedule, RenderSettings,
+    RenderStart, Stop, Stopwatch, BYTES_PER_PHOTON, MAX_LIGHT_PATHS, PHOTONS_PER_PATH,
 };
 use crate::film::{Film, Image};
 use crate::photon::{HashGrid, Kernel, PhotonBuffer};
 use crate::pixel_bounds::PixelBounds;
 use crate::scene::Scene;
-use crate::StateError;
 use eye_pass::trace_eye_path;
 use glam::Vec3;
 use rayon::prelude::*;
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::ops::Range;
 
 /// Light paths per parallel work item of the photon pass.
 const PATHS_PER_TASK: u32 = 512;
@@ -82,105 +82,22 @@ pub struct PpmRenderer {
 }
 
 impl PpmRenderer {
-    /// A fresh render. The number of light paths is capped at [`MAX_LIGHT_PATHS`] and
-    /// `max_depth` at [`MAX_DEPTH`].
-    pub fn new(scene: &Scene, settings: RenderSettings) -> Self {
-        let (w, h) = (scene.camera.width, scene.camera.height);
-        Self::with_bounds(settings, PixelBounds::full(w, h))
-    }
-
-    /// A fresh render of the pixels in `bounds` only (see [`PixelBounds`]).
-    pub fn with_bounds(settings: RenderSettings, bounds: PixelBounds) -> Self {
-        let film = Film::new(bounds.width(), bounds.height());
-        Self::with_film(settings, bounds, film)
-    }
-
-    /// A render continuing from `snapshot` (whole images only). Knaus and Zwicker's PPM
-    /// carries nothing but the film between iterations: iteration i's photons and eye paths
-    /// depend on (seed, i) and its radius on i alone, so the schedule restarts at the
-    /// snapshot's next iteration (and `Radius::Auto`'s pilot, keyed by (seed, pixel), is
-    /// traced again to the same radii).
-    pub fn from_snapshot(
-        scene: &Scene,
-        settings: RenderSettings,
-        snapshot: Snapshot,
-    ) -> Result<Self, StateError> {
-        let (w, h) = (scene.camera.width, scene.camera.height);
-        let film = snapshot.into_film(w, h)?;
-        Ok(Self::with_film(settings, PixelBounds::full(w, h), film))
-    }
-
-    /// What [`PpmRenderer::from_snapshot`] needs to continue: the film.
-    pub fn snapshot(&self) -> Snapshot {
-        Snapshot::of_film(&self.film)
-    }
-
-    /// A render of `bounds` whose next iteration is `film.next_iteration()`.
-    fn with_film(settings: RenderSettings, bounds: PixelBounds, film: Film) -> Self {
-        let mut settings = settings;
-        settings.photons = settings.photons.clamp(1, MAX_LIGHT_PATHS);
-        settings.max_depth = settings.max_depth.min(MAX_DEPTH);
-        // Grown on demand when a scene stores more photons per path.
-        let capacity = settings.photons as usize * PHOTONS_PER_PATH;
-        let start = match settings.radius {
-            Radius::World(r) => r,
-            Radius::Auto => 1.0,
-        };
-        PpmRenderer {
-            // 1-based: 0-based iteration k uses the (k + 1)-th radius. A render that starts
-            // later (a shard, a resumed render) replays the schedule to its first iteration
-            // in `iterate_until`, where a stop request can cut the replay short.
-            schedule: RadiusSchedule::new(start, settings.alpha),
-            pixel_radii: None,
-            last_scale: None,
-            settings,
-            film,
-            bounds,
-            photons: PhotonBuffer::with_capacity(capacity),
-            grid: HashGrid::new(),
-            estimates: vec![Vec3::ZERO; bounds.len()],
-        }
-    }
-
-    /// What [`PpmRenderer::new`] allocates for a `width` x `height` image and `settings`:
-    /// the per-pixel buffers, and the photon buffer and hash grid sized for
-    /// [`PHOTONS_PER_PATH`] photons per light path (both grow if a scene stores more).
-    pub fn memory_estimate(width: u32, height: u32, settings: &RenderSettings) -> MemoryEstimate {
-        let paths = settings.photons.clamp(1, MAX_LIGHT_PATHS) as u64;
-        let mut estimate = MemoryEstimate::default();
-        estimate.add(MemoryPart::Image, image_bytes(width, height));
-        estimate.add(
-            MemoryPart::Photons,
-            paths * PHOTONS_PER_PATH as u64 * BYTES_PER_PHOTON,
-        );
-        estimate
-    }
-
     /// The photon pass: all light paths of this iteration, in parallel, into the shared buffer.
     /// If the buffer overflows, it grows and the pass is redone: light paths are keyed by
     /// (seed, iteration, path) so the redone pass stores exactly the same photons. `None` if
     /// `stop` said yes before one of the work items (the pass is then incomplete).
-    fn photon_pass<F: Fn() -> bool + Sync>(
-        &mut self,
-        scene: &Scene,
-        iteration: u64,
-        stop: &F,
-    ) -> Option<PhotonCounters> {
+    fn photon_pass(&mut self, scene: &Scene, iteration: u64, stop: Stop) -> Option<PhotonCounters> {
         let paths = self.settings.photons;
-        let abandoned = AtomicBool::new(false);
         loop {
             self.photons.clear();
             let buffer = &self.photons;
             let settings = &self.settings;
             let tasks = paths.div_ceil(PATHS_PER_TASK);
-            let counters = (0..tasks)
-                .into_par_iter()
-                .map(|task| {
+            let counters = reduce_until(
+                0..tasks,
+                stop,
+                |task| {
                     let mut counters = PhotonCounters::default();
-                    if stop() {
-                        abandoned.store(true, Ordering::Relaxed);
-                        return counters;
-                    }
                     let mut writer = buffer.writer();
                     let end = ((task + 1) * PATHS_PER_TASK).min(paths);
                     for path in task * PATHS_PER_TASK..end {
@@ -194,15 +111,12 @@ impl PpmRenderer {
                         );
                     }
                     counters
-                })
-                .reduce(PhotonCounters::default, |a, b| PhotonCounters {
+                },
+                |a, b| PhotonCounters {
                     rays: a.rays + b.rays,
                     photons: a.photons + b.photons,
-                });
-            // The parallel iterator has joined: every store above is visible here.
-            if abandoned.load(Ordering::Relaxed) {
-                return None;
-            }
+                },
+            )?;
             if !self.photons.overflowed() {
                 return Some(counters);
             }
@@ -211,18 +125,94 @@ impl PpmRenderer {
         }
     }
 
+    /// The radius the next iteration will use; with per-pixel radii the one its photon grid
+    /// will be built for (the [`GRID_QUANTILE`] quantile of the pixels'; before the first
+    /// iteration, the schedule's factor 1).
+    pub fn radius(&self) -> f32 {
+        let mut schedule = self.schedule;
+        schedule.advance_to(self.film.next_iteration() + 1, &|| false);
+        let scale = schedule.radius();
+        self.pixel_radii.as_ref().map_or(scale, |p| p.grid * scale)
+    }
+
+    /// The photons stored by the last iteration, in the grid's (deterministic) order.
+    pub fn photon_map(&self) -> &HashGrid {
+        &self.grid
+    }
+}
+
+impl Integrator for PpmRenderer {
+    fn features() -> Features {
+        Features {
+            aovs: &[Aov::Radius, Aov::Photons],
+            aov_refusal: "",
+            shard_refusal: None,
+            sample_per_iteration: false,
+            photon_map: true,
+            delta_light_caustics: true,
+            snapshot_channels: 0,
+        }
+    }
+
+    /// The per-pixel buffers, and the photon buffer and hash grid sized for
+    /// [`PHOTONS_PER_PATH`] photons per light path (both grow if a scene stores more).
+    fn memory_estimate(width: u32, height: u32, settings: &RenderSettings) -> MemoryEstimate {
+        let paths = settings.photons.clamp(1, MAX_LIGHT_PATHS) as u64;
+        let mut estimate = MemoryEstimate::default();
+        estimate.add(MemoryPart::Image, image_bytes(width, height));
+        estimate.add(
+            MemoryPart::Photons,
+            paths * PHOTONS_PER_PATH as u64 * BYTES_PER_PHOTON,
+        );
+        estimate
+    }
+
+    /// The photons, the radius from the image's first iteration to its last (for `auto` the
+    /// factor every pixel's own radius shrank by), alpha and the direct light.
+    fn settings_words(settings: &RenderSettings, image: Range<u64>) -> String {
+        let radius = summary::scheduled_radius(settings, image, "auto (per pixel)");
+        summary::photon_mapping(settings, &radius)
+    }
+
+    /// A render from `start`; the number of light paths is capped at [`MAX_LIGHT_PATHS`].
+    /// Knaus and Zwicker's PPM carries nothing but the film between iterations (the default
+    /// [`Integrator::from_snapshot`]): iteration i's photons and eye paths depend on
+    /// (seed, i) and its radius on i alone, so the schedule restarts at the film's next
+    /// iteration (and `Radius::Auto`'s pilot, keyed by (seed, pixel), is traced again to the
+    /// same radii).
+    fn start(start: RenderStart) -> Self {
+        let RenderStart {
+            mut settings,
+            bounds,
+            film,
+        } = start;
+        settings.photons = settings.photons.clamp(1, MAX_LIGHT_PATHS);
+        // Grown on demand when a scene stores more photons per path.
+        let capacity = settings.photons as usize * PHOTONS_PER_PATH;
+        PpmRenderer {
+            // 1-based: 0-based iteration k uses the (k + 1)-th radius. A render that starts
+            // later (a shard, a resumed render) replays the schedule to its first iteration
+            // in `iterate_until`, where a stop request can cut the replay short.
+            schedule: settings.radius_schedule_at(1),
+            pixel_radii: None,
+            last_scale: None,
+            settings,
+            film,
+            bounds,
+            photons: PhotonBuffer::with_capacity(capacity),
+            grid: HashGrid::new(),
+            estimates: vec![Vec3::ZERO; bounds.len()],
+        }
+    }
+
     /// Renders one iteration. With `Radius::Auto` the first one starts with the pilot pass
     /// (its rays count as eye rays, its time as the eye pass's).
     ///
     /// Abandoned (film and radius untouched, `None`) if `stop` says
     /// yes before one of the photon or eye pass's work items starts.
-    pub fn iterate_until<F: Fn() -> bool + Sync>(
-        &mut self,
-        scene: &Scene,
-        stop: &F,
-    ) -> Option<IterationStats> {
+    fn iterate_until(&mut self, scene: &Scene, stop: Stop) -> Option<IterationStats> {
         let iteration = self.film.next_iteration();
-        if !self.schedule.advance_to(iteration + 1, stop) {
+        if !self.schedule.advance_to(iteration + 1, &stop) {
             return None;
         }
         let mut passes = PassTimes::default();
@@ -250,17 +240,13 @@ impl PpmRenderer {
         };
         let width = scene.camera.width as usize;
         let settings = &self.settings;
-        let abandoned = AtomicBool::new(false);
         let pixel_radii = self.pixel_radii.as_ref().map(|p| &p.initial[..]);
         let bounds = self.bounds;
-        let eye = interleaved(self.estimates.chunks_mut(PIXELS_PER_TASK))
-            .into_par_iter()
-            .map(|(task, pixels)| {
+        let eye = reduce_until(
+            interleaved(self.estimates.chunks_mut(PIXELS_PER_TASK)),
+            stop,
+            |(task, pixels)| {
                 let mut counters = RayCounters::default();
-                if stop() {
-                    abandoned.store(true, Ordering::Relaxed);
-                    return counters;
-                }
                 for (i, out) in pixels.iter_mut().enumerate() {
                     let pixel = bounds.full_index(task * PIXELS_PER_TASK + i);
                     // This pixel's radius r_1(p) s_i, and its kernel.
@@ -288,12 +274,9 @@ impl PpmRenderer {
                     );
                 }
                 counters
-            })
-            .reduce(RayCounters::default, RayCounters::merge);
-        // Joined: the stores above are visible. The grid is rebuilt by the next iteration.
-        if abandoned.load(Ordering::Relaxed) {
-            return None;
-        }
+            },
+            RayCounters::merge,
+        )?; // Abandoned: the grid is rebuilt by the next iteration.
         passes.eye += clock.lap();
 
         let before = self.film.rejected();
@@ -315,28 +298,18 @@ impl PpmRenderer {
 
     /// The per-pixel estimates of the last iteration alone (row-major), for variance
     /// estimates in statistical tests.
-    pub fn last_estimates(&self) -> &[Vec3] {
+    fn last_estimates(&self) -> &[Vec3] {
         &self.estimates
     }
 
     /// The accumulated image.
-    pub fn film(&self) -> &Film {
+    fn film(&self) -> &Film {
         &self.film
-    }
-
-    /// The radius the next iteration will use; with per-pixel radii the one its photon grid
-    /// will be built for (the [`GRID_QUANTILE`] quantile of the pixels'; before the first
-    /// iteration, the schedule's factor 1).
-    pub fn radius(&self) -> f32 {
-        let mut schedule = self.schedule;
-        schedule.advance_to(self.film.next_iteration() + 1, &|| false);
-        let scale = schedule.radius();
-        self.pixel_radii.as_ref().map_or(scale, |p| p.grid * scale)
     }
 
     /// The gather radius of every pixel in the last iteration as a grey image (`None` before
     /// the first iteration).
-    pub fn radius_image(&self) -> Option<Image> {
+    fn radius_image(&self) -> Option<Image> {
         let scale = self.last_scale?;
         let mut image = Image::new(self.film.width, self.film.height);
         match &self.pixel_radii {
@@ -357,7 +330,7 @@ impl PpmRenderer {
     /// ([`pilot_points`]: the path through the pixel's centre), found by tracing once more;
     /// pixels whose path finds no diffuse surface read 0. With `--direct sampled` the
     /// first-bounce photons are not stored and not counted.
-    pub fn photon_count_image(&self, scene: &Scene) -> Option<Image> {
+    fn photon_count_image(&self, scene: &Scene) -> Option<Image> {
         let scale = self.last_scale?;
         let s = &self.settings;
         let points = pilot_points(
@@ -392,13 +365,8 @@ impl PpmRenderer {
         Some(image)
     }
 
-    /// The photons stored by the last iteration, in the grid's (deterministic) order.
-    pub fn photon_map(&self) -> &HashGrid {
-        &self.grid
-    }
-
     /// Bytes held by the render state (film, photon buffer, grid, per-pixel estimates).
-    pub fn memory_bytes(&self) -> usize {
+    fn memory_bytes(&self) -> usize {
         self.estimates.len() * std::mem::size_of::<Vec3>()
             + self.film.memory_bytes()
             + self

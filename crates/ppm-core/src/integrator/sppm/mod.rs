@@ -26,10 +26,12 @@ pub use visible_point::{trace_camera_path, SplatPoint};
 
 use super::camera_walk::RayCounters;
 use super::footprint::pilot_radii;
+use super::runner::reduce_until;
 use super::task_order::interleaved;
 use super::{
-    image_bytes, trace_light_path, IterationStats, MemoryEstimate, MemoryPart, PassTimes,
-    PhotonCounters, Radius, RenderSettings, Snapshot, Stopwatch, MAX_DEPTH, MAX_LIGHT_PATHS,
+    image_bytes, summary, trace_light_path, Aov, Features, Integrator, IterationStats,
+    MemoryEstimate, MemoryPart, PassTimes, PhotonCounters, Radius, RenderSettings, RenderStart,
+    Snapshot, Stop, Stopwatch, MAX_LIGHT_PATHS,
 };
 use crate::film::{Film, Image};
 use crate::pixel_bounds::PixelBounds;
@@ -38,7 +40,7 @@ use crate::StateError;
 use glam::Vec3;
 use rayon::prelude::*;
 use splat::{SplatCounters, Splatter};
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::ops::Range;
 
 /// Light paths per parallel work item of the photon pass.
 const PATHS_PER_TASK: u32 = 512;
@@ -74,69 +76,15 @@ pub struct SppmRenderer {
 }
 
 impl SppmRenderer {
-    /// A fresh render; every pixel starts at radius `settings.radius` (`Radius::World`), or
-    /// at a few pixel footprints at its first diffuse visible point (`Radius::Auto`, set by
-    /// the first iteration's pilot pass: [`pilot_radii`], shared with `ppm`). The number of light
-    /// paths per iteration is capped at [`MAX_LIGHT_PATHS`], `max_depth` at [`MAX_DEPTH`].
-    pub fn new(scene: &Scene, settings: RenderSettings) -> Self {
-        let (w, h) = (scene.camera.width, scene.camera.height);
-        Self::with_bounds(settings, PixelBounds::full(w, h))
-    }
-
-    /// A fresh render of the pixels in `bounds` only (see [`PixelBounds`]): each pixel's camera
-    /// paths and photons are those of the full render, so a crop changes no pixel.
-    pub fn with_bounds(settings: RenderSettings, bounds: PixelBounds) -> Self {
-        let mut settings = settings;
-        settings.photons = settings.photons.clamp(1, MAX_LIGHT_PATHS);
-        settings.max_depth = settings.max_depth.min(MAX_DEPTH);
-        let (w, h) = (bounds.width(), bounds.height());
-        let pixels = bounds.len();
-        let (radius, radii_pending) = match settings.radius {
-            Radius::World(r) => (r, false),
-            Radius::Auto => (0.0, true),
-        };
-        SppmRenderer {
-            direct: Film::new(w, h),
-            direct_estimates: vec![Vec3::ZERO; pixels],
-            statistics: vec![PixelStatistics::new(radius); pixels],
-            points: vec![SplatPoint::default(); pixels],
-            accumulators: (0..pixels).map(|_| Accumulator::default()).collect(),
-            grid: VisiblePointGrid::new(),
-            emitted: 0,
-            image: vec![Vec3::ZERO; pixels],
-            rejected: 0,
-            radii_pending,
-            bounds,
-            settings,
-        }
-    }
-
-    /// What [`SppmRenderer::new`] and its iterations allocate for a `width` x `height` image:
-    /// per pixel only (statistics, visible point, accumulator, the direct-light film, the
-    /// image it keeps and the copy `image()` returns, and at most 8 grid entries plus a
-    /// bucket), whatever the photons per iteration.
-    pub fn memory_estimate(width: u32, height: u32, _settings: &RenderSettings) -> MemoryEstimate {
-        let pixels = width as u64 * height as u64;
-        let per_pixel = (std::mem::size_of::<PixelStatistics>()
-            + std::mem::size_of::<SplatPoint>()
-            + std::mem::size_of::<Accumulator>()
-            + std::mem::size_of::<Vec3>()
-            + 9 * std::mem::size_of::<u32>()) as u64;
-        let mut estimate = MemoryEstimate::default();
-        estimate.add(MemoryPart::Image, image_bytes(width, height));
-        estimate.add(MemoryPart::Image, pixels.saturating_mul(per_pixel));
-        estimate
-    }
-
     /// The photon pass, splatting into the accumulators. If a fixed-point sum overflows, the
     /// accumulators are cleared and the pass redone with a coarser code: light paths are
     /// keyed by (seed, iteration, path), so the redone pass splats the same photons.
     /// `None` (accumulators cleared) if `stop` says yes before one of its work items starts.
-    fn photon_pass<F: Fn() -> bool + Sync>(
+    fn photon_pass(
         &mut self,
         scene: &Scene,
         iteration: u64,
-        stop: &F,
+        stop: Stop,
     ) -> Option<(FixedPoint, SplatCounters, u64)> {
         let paths = self.settings.photons;
         let flux_unit = scene.total_power().max_element();
@@ -146,14 +94,10 @@ impl SppmRenderer {
             let (settings, grid) = (&self.settings, &self.grid);
             let (points, accumulators) = (&self.points[..], &self.accumulators[..]);
             let tasks = paths.div_ceil(PATHS_PER_TASK);
-            let abandoned = AtomicBool::new(false);
-            let (counters, rays) = (0..tasks)
-                .into_par_iter()
-                .map(|task| {
-                    if stop() {
-                        abandoned.store(true, Ordering::Relaxed);
-                        return (SplatCounters::default(), 0);
-                    }
+            let pass = reduce_until(
+                0..tasks,
+                stop,
+                |task| {
                     let mut splatter = Splatter {
                         grid,
                         points,
@@ -174,28 +118,178 @@ impl SppmRenderer {
                         );
                     }
                     (splatter.counters, light.rays)
-                })
-                .reduce(
-                    || (SplatCounters::default(), 0),
-                    |(a, ra), (b, rb)| {
-                        let sum = SplatCounters {
-                            photons: a.photons + b.photons,
-                            splats: a.splats + b.splats,
-                            rejected: a.rejected + b.rejected,
-                        };
-                        (sum, ra + rb)
-                    },
-                );
-            // Joined: every store above is visible here.
-            if abandoned.load(Ordering::Relaxed) {
+                },
+                |(a, ra), (b, rb)| {
+                    let sum = SplatCounters {
+                        photons: a.photons + b.photons,
+                        splats: a.splats + b.splats,
+                        rejected: a.rejected + b.rejected,
+                    };
+                    (sum, ra + rb)
+                },
+            );
+            let Some((counters, rays)) = pass else {
                 pixel::clear(&mut self.accumulators);
                 return None;
-            }
+            };
             if !code.overflowed() {
                 return Some((code, counters, rays));
             }
             pixel::clear(&mut self.accumulators);
             scale /= COARSER;
+        }
+    }
+
+    /// The image from the direct-light average and the statistics:
+    /// L = Ld_avg + tau / (N_e pi R^2); returns the pixels whose photon part was not finite
+    /// (left out).
+    fn update_image(&mut self) -> u64 {
+        let direct = self.direct.image();
+        let emitted = self.emitted as f64;
+        self.image
+            .par_iter_mut()
+            .zip(direct.pixels.par_iter().zip(self.statistics.par_iter()))
+            .map(|(l, (ld, s))| {
+                let photons = s.radiance(emitted);
+                let ok = photons.is_finite();
+                *l = *ld + if ok { photons } else { Vec3::ZERO };
+                (!ok) as u64
+            })
+            .sum::<u64>()
+    }
+
+    /// The root mean square of the pixels' radii for the next iteration.
+    pub fn rms_radius(&self) -> f32 {
+        let n = self.statistics.len().max(1) as f64;
+        (self.statistics.iter().map(|s| s.r2).sum::<f64>() / n).sqrt() as f32
+    }
+
+    /// Each pixel's statistics (row-major).
+    pub fn statistics(&self) -> &[PixelStatistics] {
+        &self.statistics
+    }
+}
+
+impl Integrator for SppmRenderer {
+    fn features() -> Features {
+        Features {
+            aovs: &[Aov::Radius, Aov::Photons],
+            aov_refusal: "",
+            shard_refusal: Some(
+                "each iteration's per-pixel radii and statistics depend on all iterations \
+                 before it",
+            ),
+            sample_per_iteration: false,
+            photon_map: false,
+            delta_light_caustics: true,
+            snapshot_channels: snapshot::CHANNELS,
+        }
+    }
+
+    /// Per pixel only (statistics, visible point, accumulator, the direct-light film, the
+    /// image it keeps and the copy `image()` returns, and at most 8 grid entries plus a
+    /// bucket), whatever the photons per iteration.
+    fn memory_estimate(width: u32, height: u32, _settings: &RenderSettings) -> MemoryEstimate {
+        let pixels = width as u64 * height as u64;
+        let per_pixel = (std::mem::size_of::<PixelStatistics>()
+            + std::mem::size_of::<SplatPoint>()
+            + std::mem::size_of::<Accumulator>()
+            + std::mem::size_of::<Vec3>()
+            + 9 * std::mem::size_of::<u32>()) as u64;
+        let mut estimate = MemoryEstimate::default();
+        estimate.add(MemoryPart::Image, image_bytes(width, height));
+        estimate.add(MemoryPart::Image, pixels.saturating_mul(per_pixel));
+        estimate
+    }
+
+    /// The photons, the radius at the start (each pixel's then shrinks with its own
+    /// photons), alpha and the direct light.
+    fn settings_words(settings: &RenderSettings, _image: Range<u64>) -> String {
+        let radius = match settings.radius {
+            Radius::World(r) => format!("{r} at the start, then per pixel"),
+            Radius::Auto => "auto (per pixel)".to_string(),
+        };
+        summary::photon_mapping(settings, &radius)
+    }
+
+    /// A render from `start`; every pixel starts at radius `settings.radius`
+    /// (`Radius::World`), or at a few pixel footprints at its first diffuse visible point
+    /// (`Radius::Auto`, set by the first iteration's pilot pass: [`pilot_radii`], shared with
+    /// `ppm`). The number of light paths per iteration is capped at [`MAX_LIGHT_PATHS`]. Each
+    /// pixel's camera paths and photons are those of the full render, so a crop changes no
+    /// pixel. SPPM's iterations share per-pixel statistics: its direct-light film starts
+    /// empty, and a saved state comes in by [`Integrator::from_snapshot`].
+    fn start(start: RenderStart) -> Self {
+        let RenderStart {
+            mut settings,
+            bounds,
+            film,
+        } = start;
+        settings.photons = settings.photons.clamp(1, MAX_LIGHT_PATHS);
+        let pixels = bounds.len();
+        let (radius, radii_pending) = match settings.radius {
+            Radius::World(r) => (r, false),
+            Radius::Auto => (0.0, true),
+        };
+        SppmRenderer {
+            direct: film,
+            direct_estimates: vec![Vec3::ZERO; pixels],
+            statistics: vec![PixelStatistics::new(radius); pixels],
+            points: vec![SplatPoint::default(); pixels],
+            accumulators: (0..pixels).map(|_| Accumulator::default()).collect(),
+            grid: VisiblePointGrid::new(),
+            emitted: 0,
+            image: vec![Vec3::ZERO; pixels],
+            rejected: 0,
+            radii_pending,
+            bounds,
+            settings,
+        }
+    }
+
+    /// A render continuing from `snapshot` (whole images only): the direct-light film and
+    /// every pixel's statistics, bit for bit. A state without statistics is refused unless it
+    /// starts at iteration 0 (SPPM's iterations cannot be cut into shards: see
+    /// [`snapshot`](self::snapshot)).
+    fn from_snapshot(
+        scene: &Scene,
+        settings: &RenderSettings,
+        snapshot: Snapshot,
+    ) -> Result<Self, StateError> {
+        let (w, h) = (scene.camera.width, scene.camera.height);
+        snapshot.check_size(w, h)?;
+        let mut renderer = Self::start(RenderStart::fresh(settings, PixelBounds::full(w, h)));
+        if snapshot.pixels.is_empty() {
+            if snapshot.film.next_iteration() > 0 {
+                return Err(StateError::Unsupported(
+                    "sppm carries per-pixel statistics from one iteration to the next: a \
+                     render can be resumed from its own state, but not started at a later \
+                     iteration (no --shard) or from another algorithm's state"
+                        .into(),
+                ));
+            }
+            return Ok(renderer);
+        }
+        if snapshot.film.first_iteration() != 0 {
+            return Err(StateError::Unsupported(
+                "an sppm state must cover its render from the first iteration".into(),
+            ));
+        }
+        renderer.statistics = snapshot::from_channels(&snapshot.pixels, renderer.image.len())?;
+        renderer.radii_pending = false;
+        renderer.emitted = renderer.settings.photons as u64 * snapshot.film.next_iteration();
+        renderer.direct = snapshot.film;
+        renderer.rejected = renderer.update_image();
+        Ok(renderer)
+    }
+
+    /// What [`SppmRenderer::from_snapshot`] needs to continue: the direct-light film and the
+    /// statistics (whole images only: a crop's state has the crop's size and is refused by a
+    /// whole render).
+    fn snapshot(&self) -> Snapshot {
+        Snapshot {
+            film: self.direct.clone(),
+            pixels: snapshot::to_channels(&self.statistics),
         }
     }
 
@@ -205,11 +299,7 @@ impl SppmRenderer {
     /// camera or photon pass's work items starts. The pixel statistics, the direct-light film
     /// and the photon count change only after both passes, so an abandoned iteration leaves
     /// the render as it was (the visible points and the grid are rebuilt by every iteration).
-    pub fn iterate_until<F: Fn() -> bool + Sync>(
-        &mut self,
-        scene: &Scene,
-        stop: &F,
-    ) -> Option<IterationStats> {
+    fn iterate_until(&mut self, scene: &Scene, stop: Stop) -> Option<IterationStats> {
         let iteration = self.direct.next_iteration();
         let mut passes = PassTimes::default();
         let mut clock = Stopwatch::start();
@@ -231,19 +321,15 @@ impl SppmRenderer {
         let settings = &self.settings;
         let statistics = &self.statistics;
         let bounds = self.bounds;
-        let abandoned = AtomicBool::new(false);
         let tasks = self
             .direct_estimates
             .chunks_mut(PIXELS_PER_TASK)
             .zip(self.points.chunks_mut(PIXELS_PER_TASK));
-        let camera = interleaved(tasks)
-            .into_par_iter()
-            .map(|(task, (ld, points))| {
+        let camera = reduce_until(
+            interleaved(tasks),
+            stop,
+            |(task, (ld, points))| {
                 let mut counters = RayCounters::default();
-                if stop() {
-                    abandoned.store(true, Ordering::Relaxed);
-                    return counters;
-                }
                 for (i, (ld, vp)) in ld.iter_mut().zip(points).enumerate() {
                     let local = task * PIXELS_PER_TASK + i;
                     let pixel = bounds.full_index(local);
@@ -254,12 +340,9 @@ impl SppmRenderer {
                     *vp = point;
                 }
                 counters
-            })
-            .reduce(RayCounters::default, RayCounters::merge);
-        // Joined: every store above is visible here.
-        if abandoned.load(Ordering::Relaxed) {
-            return None;
-        }
+            },
+            RayCounters::merge,
+        )?;
         passes.eye = clock.lap();
 
         // 2. The grid over the visible points.
@@ -299,117 +382,42 @@ impl SppmRenderer {
         })
     }
 
-    /// The image from the direct-light average and the statistics:
-    /// L = Ld_avg + tau / (N_e pi R^2); returns the pixels whose photon part was not finite
-    /// (left out).
-    fn update_image(&mut self) -> u64 {
-        let direct = self.direct.image();
-        let emitted = self.emitted as f64;
-        self.image
-            .par_iter_mut()
-            .zip(direct.pixels.par_iter().zip(self.statistics.par_iter()))
-            .map(|(l, (ld, s))| {
-                let photons = s.radiance(emitted);
-                let ok = photons.is_finite();
-                *l = *ld + if ok { photons } else { Vec3::ZERO };
-                (!ok) as u64
-            })
-            .sum::<u64>()
-    }
-
-    /// A render continuing from `snapshot` (whole images only): the direct-light film and
-    /// every pixel's statistics, bit for bit. A state without statistics is refused unless it
-    /// starts at iteration 0 (SPPM's iterations cannot be cut into shards: see
-    /// [`snapshot`](self::snapshot)).
-    pub fn from_snapshot(
-        scene: &Scene,
-        settings: RenderSettings,
-        snapshot: Snapshot,
-    ) -> Result<Self, StateError> {
-        let (w, h) = (scene.camera.width, scene.camera.height);
-        snapshot.check_size(w, h)?;
-        let mut renderer = Self::with_bounds(settings, PixelBounds::full(w, h));
-        if snapshot.pixels.is_empty() {
-            if snapshot.film.next_iteration() > 0 {
-                return Err(StateError::Unsupported(
-                    "sppm carries per-pixel statistics from one iteration to the next: a \
-                     render can be resumed from its own state, but not started at a later \
-                     iteration (no --shard) or from another algorithm's state"
-                        .into(),
-                ));
-            }
-            return Ok(renderer);
-        }
-        if snapshot.film.first_iteration() != 0 {
-            return Err(StateError::Unsupported(
-                "an sppm state must cover its render from the first iteration".into(),
-            ));
-        }
-        renderer.statistics = snapshot::from_channels(&snapshot.pixels, renderer.image.len())?;
-        renderer.radii_pending = false;
-        renderer.emitted = renderer.settings.photons as u64 * snapshot.film.next_iteration();
-        renderer.direct = snapshot.film;
-        renderer.rejected = renderer.update_image();
-        Ok(renderer)
-    }
-
-    /// What [`SppmRenderer::from_snapshot`] needs to continue: the direct-light film and the
-    /// statistics (whole images only: a crop's state has the crop's size and is refused by a
-    /// whole render).
-    pub fn snapshot(&self) -> Snapshot {
-        Snapshot {
-            film: self.direct.clone(),
-            pixels: snapshot::to_channels(&self.statistics),
-        }
-    }
-
-    /// The index of the first iteration in the image (always 0: SPPM is not sharded).
-    pub fn first_iteration(&self) -> u64 {
-        self.direct.first_iteration()
+    /// The camera paths' direct-light film: it counts the iterations.
+    fn film(&self) -> &Film {
+        &self.direct
     }
 
     /// Every pixel's gather radius R for the next iteration, as a grey image.
-    pub fn radius_image(&self) -> Image {
+    fn radius_image(&self) -> Option<Image> {
         let (w, h) = (self.direct.width, self.direct.height);
         let mut image = Image::new(w, h);
         for (out, s) in image.pixels.iter_mut().zip(&self.statistics) {
             *out = Vec3::splat(s.r2.sqrt() as f32);
         }
-        image
+        Some(image)
     }
 
     /// Every pixel's accumulated photon count N (Hachisuka, Ogaki and Jensen 2008, sec. 4.2:
     /// the alpha-weighted count that sets the radius), as a grey image: what the pixel's
     /// estimate rests on (its relative noise is about one over the square root).
-    pub fn photon_count_image(&self) -> Image {
+    fn photon_count_image(&self, _scene: &Scene) -> Option<Image> {
         let (w, h) = (self.direct.width, self.direct.height);
         let mut image = Image::new(w, h);
         for (out, s) in image.pixels.iter_mut().zip(&self.statistics) {
             *out = Vec3::splat(s.n as f32);
         }
-        image
-    }
-
-    /// The root mean square of the pixels' radii for the next iteration.
-    pub fn rms_radius(&self) -> f32 {
-        let n = self.statistics.len().max(1) as f64;
-        (self.statistics.iter().map(|s| s.r2).sum::<f64>() / n).sqrt() as f32
-    }
-
-    /// Each pixel's statistics (row-major).
-    pub fn statistics(&self) -> &[PixelStatistics] {
-        &self.statistics
+        Some(image)
     }
 
     /// The current image, one value per pixel (row-major). SPPM's iterations are not
     /// independent estimates (the statistics carry over), so unlike `ppm` this is the image
     /// after the last iteration, not that iteration's estimate alone.
-    pub fn last_estimates(&self) -> &[Vec3] {
+    fn last_estimates(&self) -> &[Vec3] {
         &self.image
     }
 
     /// The current image.
-    pub fn image(&self) -> Image {
+    fn image(&self) -> Image {
         Image {
             width: self.direct.width,
             height: self.direct.height,
@@ -417,24 +425,14 @@ impl SppmRenderer {
         }
     }
 
-    /// Iterations done.
-    pub fn iterations(&self) -> u64 {
-        self.direct.iterations()
-    }
-
     /// Samples dropped as NaN, infinite or negative: camera-path radiance, splats and pixels.
-    pub fn rejected(&self) -> u64 {
+    fn rejected(&self) -> u64 {
         self.direct.rejected() + self.rejected
-    }
-
-    /// (iteration, pixel) of the first camera path whose radiance was dropped.
-    pub fn first_rejected(&self) -> Option<(u64, u32)> {
-        self.direct.first_rejected()
     }
 
     /// Bytes held by the render state: all per pixel (statistics, visible points,
     /// accumulators, films, grid), none per photon.
-    pub fn memory_bytes(&self) -> usize {
+    fn memory_bytes(&self) -> usize {
         let per_pixel = std::mem::size_of::<PixelStatistics>()
             + std::mem::size_of::<SplatPoint>()
             + std::mem::size_of::<Accumulator>()

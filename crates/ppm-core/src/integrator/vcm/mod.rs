@@ -39,10 +39,12 @@ pub use techniques::Techniques;
 
 use super::camera_walk::RayCounters;
 use super::footprint::{pilot_radii, quantile};
+use super::runner::{collect_until, reduce_until};
 use super::task_order::interleaved;
 use super::{
-    image_bytes, IterationStats, MemoryEstimate, MemoryPart, PassTimes, Radius, RadiusSchedule,
-    RenderSettings, Snapshot, Stopwatch, BYTES_PER_PHOTON, MAX_DEPTH, PHOTONS_PER_PATH,
+    image_bytes, summary, Features, Integrator, IterationStats, MemoryEstimate, MemoryPart,
+    PassTimes, Radius, RadiusSchedule, RenderSettings, RenderStart, Snapshot, Stop, Stopwatch,
+    BYTES_PER_PHOTON, PHOTONS_PER_PATH,
 };
 use crate::film::{Film, SplatBuffer};
 use crate::photon::{HashGrid, Photon};
@@ -54,7 +56,7 @@ use glam::Vec3;
 use light_path::{trace_light_subpath, LightPathParams, Splat};
 use mis::MisConstants;
 use rayon::prelude::*;
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::ops::Range;
 use vertex::{LightVertex, MergeVertex};
 
 /// Light subpaths per parallel work item of the light pass.
@@ -107,79 +109,22 @@ pub struct VcmRenderer {
 }
 
 impl VcmRenderer {
-    /// A fresh render of the pixels in `bounds` (see [`PixelBounds`]); `max_depth` is clamped
-    /// to [`MAX_DEPTH`].
-    pub fn with_bounds(settings: RenderSettings, bounds: PixelBounds) -> Self {
-        Self::with_techniques(settings, bounds, Techniques::VCM)
-    }
-
-    /// [`VcmRenderer::with_bounds`] with the technique set `techniques` (`bpt`, `bpm`, `lt`).
-    pub fn with_techniques(
-        settings: RenderSettings,
-        bounds: PixelBounds,
-        techniques: Techniques,
-    ) -> Self {
-        let film = Film::new(bounds.width(), bounds.height());
-        Self::with_film(settings, bounds, film, techniques)
-    }
-
-    /// A render continuing from `snapshot` (whole images only): like the path tracer, VCM
-    /// carries nothing but the film between iterations; iteration i's subpaths depend on
-    /// (seed, i) and its radius on i alone (the `auto` pilot, keyed by the seed, is traced
-    /// again to the same r_1).
-    pub fn from_snapshot(
-        scene: &Scene,
-        settings: RenderSettings,
-        snapshot: Snapshot,
-    ) -> Result<Self, StateError> {
-        Self::from_snapshot_with_techniques(scene, settings, snapshot, Techniques::VCM)
-    }
-
-    /// [`VcmRenderer::from_snapshot`] with the technique set `techniques`, which must be the
-    /// one the snapshot was rendered with (the film does not record it).
-    pub fn from_snapshot_with_techniques(
-        scene: &Scene,
-        settings: RenderSettings,
-        snapshot: Snapshot,
-        techniques: Techniques,
-    ) -> Result<Self, StateError> {
-        let (w, h) = (scene.camera.width, scene.camera.height);
-        let film = snapshot.into_film(w, h)?;
-        Ok(Self::with_film(
+    /// A render from `start` with the technique set `techniques` (the registered `vcm`
+    /// renders [`Techniques::VCM`]; `bpt`, `bpm` and `lt` are its subsets). Like the path
+    /// tracer, VCM carries nothing but the film between iterations: iteration i's subpaths
+    /// depend on (seed, i) and its radius on i alone (the `auto` pilot, keyed by the seed, is
+    /// traced again to the same r_1).
+    pub fn start_with(start: RenderStart, techniques: Techniques) -> Self {
+        let RenderStart {
             settings,
-            PixelBounds::full(w, h),
+            bounds,
             film,
-            techniques,
-        ))
-    }
-
-    /// The technique set this render uses.
-    pub fn techniques(&self) -> Techniques {
-        self.techniques
-    }
-
-    /// What [`VcmRenderer::from_snapshot`] needs to continue: the film.
-    pub fn snapshot(&self) -> Snapshot {
-        Snapshot::of_film(&self.film)
-    }
-
-    fn with_film(
-        settings: RenderSettings,
-        bounds: PixelBounds,
-        film: Film,
-        techniques: Techniques,
-    ) -> Self {
-        let mut settings = settings;
-        settings.max_depth = settings.max_depth.min(MAX_DEPTH);
-        let start = match settings.radius {
-            Radius::World(r) => r,
-            Radius::Auto => 1.0,
-        };
+        } = start;
         VcmRenderer {
             // 1-based: 0-based iteration k uses the (k + 1)-th radius. A render that starts
             // later (a shard, a resumed render) replays the schedule to its first iteration
             // in `iterate_until`, where a stop request can cut the replay short.
-            schedule: RadiusSchedule::new(start, settings.alpha),
+            schedule: settings.radius_schedule_at(1),
             auto_radius: None,
             last_radius: None,
             settings,
@@ -196,15 +141,35 @@ impl VcmRenderer {
         }
     }
 
-    /// What [`VcmRenderer::with_bounds`] and the first iterations allocate for a `width` x
-    /// `height` image: the per-pixel buffers and the splat sums, and the light vertices (with
-    /// their grid records) for [`PHOTONS_PER_PATH`] vertices per light subpath, one subpath per
-    /// pixel (a lower bound: scenes with longer light subpaths store more).
-    pub fn memory_estimate(width: u32, height: u32, settings: &RenderSettings) -> MemoryEstimate {
-        Self::memory_estimate_with_techniques(width, height, settings, Techniques::VCM)
+    /// A fresh render of the pixels in `bounds` (see [`PixelBounds`]) with the technique set
+    /// `techniques`.
+    pub fn with_techniques(
+        settings: RenderSettings,
+        bounds: PixelBounds,
+        techniques: Techniques,
+    ) -> Self {
+        Self::start_with(RenderStart::fresh(&settings, bounds), techniques)
     }
 
-    /// [`VcmRenderer::memory_estimate`] for the technique set `techniques`: light tracing
+    /// A render continuing from `snapshot` (whole images only) with the technique set
+    /// `techniques`, which must be the one the snapshot was rendered with (the film does not
+    /// record it).
+    pub fn from_snapshot_with_techniques(
+        scene: &Scene,
+        settings: RenderSettings,
+        snapshot: Snapshot,
+        techniques: Techniques,
+    ) -> Result<Self, StateError> {
+        let start = RenderStart::resumed(scene, &settings, snapshot)?;
+        Ok(Self::start_with(start, techniques))
+    }
+
+    /// The technique set this render uses.
+    pub fn techniques(&self) -> Techniques {
+        self.techniques
+    }
+
+    /// [`Integrator::memory_estimate`] for the technique set `techniques`: light tracing
     /// alone stores no light vertices.
     pub fn memory_estimate_with_techniques(
         width: u32,
@@ -243,39 +208,28 @@ impl VcmRenderer {
 
     /// The light pass: every light subpath of `iteration`, in parallel, collected in path
     /// order; `None` if `stop` said yes before one of the work items.
-    fn light_pass<F: Fn() -> bool + Sync>(
+    fn light_pass(
         &mut self,
         scene: &Scene,
         params: &LightPathParams,
         paths: u32,
-        stop: &F,
+        stop: Stop,
     ) -> Option<RayCounters> {
-        let abandoned = AtomicBool::new(false);
-        let tasks: Vec<LightTask> = (0..paths.div_ceil(PATHS_PER_TASK))
-            .into_par_iter()
-            .map(|task| {
-                let mut out = LightTask::default();
-                if stop() {
-                    abandoned.store(true, Ordering::Relaxed);
-                    return out;
-                }
-                for path in task * PATHS_PER_TASK..((task + 1) * PATHS_PER_TASK).min(paths) {
-                    trace_light_subpath(
-                        scene,
-                        params,
-                        path,
-                        &mut out.vertices,
-                        &mut out.splats,
-                        &mut out.counters,
-                    );
-                    out.ends.push(out.vertices.len() as u32);
-                }
-                out
-            })
-            .collect();
-        if abandoned.load(Ordering::Relaxed) {
-            return None;
-        }
+        let tasks = collect_until(0..paths.div_ceil(PATHS_PER_TASK), stop, |task| {
+            let mut out = LightTask::default();
+            for path in task * PATHS_PER_TASK..((task + 1) * PATHS_PER_TASK).min(paths) {
+                trace_light_subpath(
+                    scene,
+                    params,
+                    path,
+                    &mut out.vertices,
+                    &mut out.splats,
+                    &mut out.counters,
+                );
+                out.ends.push(out.vertices.len() as u32);
+            }
+            out
+        })?;
         self.vertices.clear();
         self.path_start.clear();
         self.path_start.push(0);
@@ -293,16 +247,75 @@ impl VcmRenderer {
         Some(counters)
     }
 
+    /// The hash grid over the iteration's light vertices for merge radius `radius`, and what
+    /// merging reads of them in the grid's order.
+    fn build_grid(&mut self, radius: f32) {
+        self.records.clear();
+        self.records.extend(
+            self.vertices
+                .iter()
+                .enumerate()
+                .map(|(i, y)| Photon::new(y.vertex.hit.p, y.vertex.wo, y.throughput, i as u32)),
+        );
+        self.grid.build(&self.records, radius);
+        self.merge_vertices.clear();
+        let vertices = &self.vertices;
+        self.merge_vertices.par_extend(
+            self.grid
+                .photons()
+                .par_iter()
+                .map(|photon| MergeVertex::of(&vertices[photon.path as usize])),
+        );
+    }
+
+    /// The merge radius of the last iteration (`None` before the first, and for technique sets
+    /// without merging).
+    pub fn last_radius(&self) -> Option<f32> {
+        self.last_radius
+    }
+}
+
+impl Integrator for VcmRenderer {
+    fn features() -> Features {
+        Features {
+            aovs: &[],
+            aov_refusal: "VCM merges with one radius for every pixel (the summary prints it) and \
+                          weights its merges by MIS",
+            shard_refusal: None,
+            sample_per_iteration: false,
+            photon_map: false,
+            delta_light_caustics: true,
+            snapshot_channels: 0,
+        }
+    }
+
+    /// [`VcmRenderer::memory_estimate_with_techniques`] for [`Techniques::VCM`].
+    fn memory_estimate(width: u32, height: u32, settings: &RenderSettings) -> MemoryEstimate {
+        Self::memory_estimate_with_techniques(width, height, settings, Techniques::VCM)
+    }
+
+    /// One light path per pixel, the merge radius from the image's first iteration to its
+    /// last (for `auto` the factor r_1 shrank by) and alpha.
+    fn settings_words(settings: &RenderSettings, image: Range<u64>) -> String {
+        format!(
+            "seed {}, one light path per pixel per iteration, merge radius {} (alpha {})",
+            settings.seed,
+            summary::scheduled_radius(settings, image, "auto (median footprint)"),
+            settings.alpha,
+        )
+    }
+
+    /// [`VcmRenderer::start_with`] all techniques ([`Techniques::VCM`]).
+    fn start(start: RenderStart) -> Self {
+        Self::start_with(start, Techniques::VCM)
+    }
+
     /// Renders one iteration; abandoned (film and radius untouched, `None`) if `stop` says yes
     /// before one of the light or camera pass's work items starts.
-    pub fn iterate_until<F: Fn() -> bool + Sync>(
-        &mut self,
-        scene: &Scene,
-        stop: &F,
-    ) -> Option<IterationStats> {
+    fn iterate_until(&mut self, scene: &Scene, stop: Stop) -> Option<IterationStats> {
         let iteration = self.film.next_iteration();
         let merging = self.techniques.merging();
-        if merging && !self.schedule.advance_to(iteration + 1, stop) {
+        if merging && !self.schedule.advance_to(iteration + 1, &stop) {
             return None;
         }
         let mut passes = PassTimes::default();
@@ -355,26 +368,20 @@ impl VcmRenderer {
         };
         let bounds = self.bounds;
         let splats = &self.splats;
-        let abandoned = AtomicBool::new(false);
-        let eye = interleaved(self.estimates.chunks_mut(PIXELS_PER_TASK))
-            .into_par_iter()
-            .map(|(task, pixels)| {
+        let eye = reduce_until(
+            interleaved(self.estimates.chunks_mut(PIXELS_PER_TASK)),
+            stop,
+            |(task, pixels)| {
                 let mut counters = RayCounters::default();
-                if stop() {
-                    abandoned.store(true, Ordering::Relaxed);
-                    return counters;
-                }
                 for (i, out) in pixels.iter_mut().enumerate() {
                     let local = task * PIXELS_PER_TASK + i;
                     let pixel = bounds.full_index(local);
                     *out = pass.pixel(pixel, &mut counters) + splats.value(local);
                 }
                 counters
-            })
-            .reduce(RayCounters::default, RayCounters::merge);
-        if abandoned.load(Ordering::Relaxed) {
-            return None;
-        }
+            },
+            RayCounters::merge,
+        )?;
         passes.eye += clock.lap();
 
         let before = self.film.rejected();
@@ -397,45 +404,18 @@ impl VcmRenderer {
         })
     }
 
-    /// The hash grid over the iteration's light vertices for merge radius `radius`, and what
-    /// merging reads of them in the grid's order.
-    fn build_grid(&mut self, radius: f32) {
-        self.records.clear();
-        self.records.extend(
-            self.vertices
-                .iter()
-                .enumerate()
-                .map(|(i, y)| Photon::new(y.vertex.hit.p, y.vertex.wo, y.throughput, i as u32)),
-        );
-        self.grid.build(&self.records, radius);
-        self.merge_vertices.clear();
-        let vertices = &self.vertices;
-        self.merge_vertices.par_extend(
-            self.grid
-                .photons()
-                .par_iter()
-                .map(|photon| MergeVertex::of(&vertices[photon.path as usize])),
-        );
-    }
-
     /// The per-pixel estimates of the last iteration alone (row-major), splats included.
-    pub fn last_estimates(&self) -> &[Vec3] {
+    fn last_estimates(&self) -> &[Vec3] {
         &self.estimates
     }
 
     /// The accumulated image.
-    pub fn film(&self) -> &Film {
+    fn film(&self) -> &Film {
         &self.film
     }
 
-    /// The merge radius of the last iteration (`None` before the first, and for technique sets
-    /// without merging).
-    pub fn last_radius(&self) -> Option<f32> {
-        self.last_radius
-    }
-
     /// Bytes held by the render state.
-    pub fn memory_bytes(&self) -> usize {
+    fn memory_bytes(&self) -> usize {
         self.estimates.len() * std::mem::size_of::<Vec3>()
             + self.film.memory_bytes()
             + self.splats.memory_bytes()
