@@ -393,6 +393,43 @@ mod tests {
         assert_eq!(r.algorithm, Some(Algorithm::Path));
     }
 
+    /// `-a` takes every name and alias of the algorithm table, for `render` and for
+    /// `converge`'s list, and nothing else; `--help` lists each name with its description.
+    #[test]
+    fn every_algorithm_of_the_table_is_accepted_by_name() {
+        for entry in Algorithm::TABLE {
+            for name in std::iter::once(&entry.name).chain(entry.aliases) {
+                let cli = parse(&["s.yml", "-a", name]).unwrap();
+                assert_eq!(cli.render.algorithm, Some(entry.algorithm), "-a {name}");
+                let list = format!("vcm,{name}");
+                let cli = parse(&[
+                    "converge",
+                    "s.yml",
+                    "--reference",
+                    "r.exr",
+                    "--time-limit",
+                    "1",
+                    "-a",
+                    &list,
+                ])
+                .unwrap();
+                let Some(Command::Converge(c)) = cli.command else {
+                    panic!("expected converge")
+                };
+                assert_eq!(c.algorithm, [Algorithm::Vcm, entry.algorithm], "-a {list}");
+            }
+        }
+        let err = parse(&["s.yml", "-a", "mlt"]).unwrap_err().to_string();
+        assert!(
+            err.contains("[possible values: pt, ppm, sppm, vcm]"),
+            "{err}"
+        );
+        let help = Cli::command().render_long_help().to_string();
+        for entry in Algorithm::TABLE {
+            assert!(help.contains(entry.description), "{help}");
+        }
+    }
+
     #[test]
     fn radius_is_a_number_or_auto_and_aov_names_an_image() {
         let radius = |v: &str| {

@@ -132,12 +132,24 @@ pub struct AlgorithmName(pub Algorithm);
 
 impl<'de> Deserialize<'de> for AlgorithmName {
     fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        // Borrowed or owned, as the YAML reader gives it; an unknown name is reported as
-        // serde reports an unknown variant, with the names to choose from.
-        let name = std::borrow::Cow::<str>::deserialize(d)?;
+        // The error must come from a visitor to carry the value's line and field.
+        d.deserialize_str(AlgorithmVisitor)
+    }
+}
+
+/// Parses an algorithm's name; an unknown one is reported as serde reports an unknown
+/// variant, with the names to choose from.
+struct AlgorithmVisitor;
+
+impl Visitor<'_> for AlgorithmVisitor {
+    type Value = AlgorithmName;
+    fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "one of {}", Algorithm::NAMES.join(", "))
+    }
+    fn visit_str<E: de::Error>(self, name: &str) -> Result<AlgorithmName, E> {
         name.parse()
             .map(AlgorithmName)
-            .map_err(|_| de::Error::unknown_variant(&name, &Algorithm::NAMES))
+            .map_err(|_| E::unknown_variant(name, &Algorithm::NAMES))
     }
 }
 

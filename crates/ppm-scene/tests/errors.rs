@@ -623,6 +623,24 @@ fn render_algorithm_names_an_integrator_as_the_command_line_does() {
     has(&e, &["dir/bad.yml:9:", "render.algorithm", "vcm"]);
 }
 
+/// `render.algorithm` takes what `-a` takes: every name and alias of the algorithm table.
+#[test]
+fn render_algorithm_takes_every_name_and_alias_of_the_table() {
+    use ppm_core::integrator::Algorithm;
+    for entry in Algorithm::TABLE {
+        for name in std::iter::once(&entry.name).chain(entry.aliases) {
+            let (builder, _) = parse_scene(
+                &format!("{VALID}render: {{ algorithm: {name} }}\n"),
+                Path::new("d.yml"),
+            )
+            .unwrap();
+            assert_eq!(builder.defaults.algorithm, Some(entry.algorithm), "{name}");
+        }
+    }
+    let e = error(&format!("{VALID}render: {{ algorithm: PPM }}\n"));
+    has(&e, &["render.algorithm", "`pt`, `ppm`, `sppm`, `vcm`"]);
+}
+
 #[test]
 fn render_radius_is_a_number_or_auto() {
     let radius = |value: &str| {

@@ -68,7 +68,7 @@ pub struct IterationStats {
     pub light_paths: u64,
     pub photons: u64,
     /// Gather radius used in this iteration (photon mapping); with per-pixel radii
-    /// (`auto`) the one the photon grid was built for (see `PpmRenderer::iterate`).
+    /// (`auto`) the one the photon grid was built for (see `PpmRenderer`'s `iterate_until`).
     pub radius: f32,
     /// Samples dropped as NaN or infinite.
     pub rejected: u64,

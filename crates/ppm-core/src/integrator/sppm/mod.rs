@@ -283,7 +283,7 @@ impl Integrator for SppmRenderer {
         Ok(renderer)
     }
 
-    /// What [`SppmRenderer::from_snapshot`] needs to continue: the direct-light film and the
+    /// What [`Integrator::from_snapshot`] needs to continue: the direct-light film and the
     /// statistics (whole images only: a crop's state has the crop's size and is refused by a
     /// whole render).
     fn snapshot(&self) -> Snapshot {
