@@ -193,14 +193,14 @@ fn names(algorithms: impl Iterator<Item = AlgorithmArg>) -> String {
     algorithms.map(|a| a.name()).collect::<Vec<_>>().join(", ")
 }
 
-/// Warns when the path tracer renders a scene whose delta-light (point or spot) paths through
+/// Warns when the path tracer renders a scene whose delta-light (point, spot, directional) paths through
 /// a mirror or glass surface it cannot sample (it is offered as the reference, so the missing
 /// light would otherwise pass for the truth).
 pub fn warn_missing_light(scene: &Scene, algorithm: AlgorithmArg, scene_path: &Path) {
     if algorithm == AlgorithmArg::Pt && scene.has_delta_light_behind_specular() {
         status!(
-            "warning: {} has a point or spot light and a mirror or glass surface: the path \
-             tracer cannot render point-light light that passes a mirror or glass before a \
+            "warning: {} has a point, spot or directional light and a mirror or glass surface: the \
+             path tracer cannot render point-light light that passes a mirror or glass before a \
              diffuse surface (its caustics, its reflection); that light is missing from this \
              image. -a ppm, sppm or vcm render it",
             scene_path.display()

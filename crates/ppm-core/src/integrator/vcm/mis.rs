@@ -123,6 +123,20 @@ impl SubpathMis {
         }
     }
 
+    /// A light subpath leaving a light at infinity (a directional light; TR sec. 5.1,
+    /// SmallVCM's `DirectionalLight`): next-event estimation picks its direction with
+    /// probability 1 and the subpath leaves a disk with area density `pdf_pos` (1/(pi R^2);
+    /// the light's choice cancels), so dVCM = mis(1 / pdf_pos); dVC = dVM = 0 (a delta light).
+    /// The first [`SubpathMis::arrive`] must then get distance^2 1: parallel rays reach the
+    /// first vertex with area density pdf_pos |cos|, whatever the distance to the disk.
+    pub fn light_start_at_infinity(pdf_pos: f32) -> Self {
+        SubpathMis {
+            dvcm: mis(1.0 / pdf_pos),
+            dvc: 0.0,
+            dvm: 0.0,
+        }
+    }
+
     /// A camera subpath leaving the pinhole along a ray of per-pixel solid-angle pdf
     /// `camera_pdf` (TR eqs. 31-33 for the camera: the light-tracing technique reaches the
     /// first vertex with pdf p_camera / N_light in the same units): dVCM = mis(N_light /
