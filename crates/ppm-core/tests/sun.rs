@@ -5,7 +5,7 @@
 //! checks common to every light are in `light_harness.rs`; the caustic against Mitsuba 3 is
 //! in `crates/ppm-scene/tests/sun.rs`.
 
-mod test_scenes;
+use ppm_test_support::test_scenes;
 
 use ppm_core::light::{Light, LightKind};
 use ppm_core::prelude::*;
