@@ -296,14 +296,20 @@ fn check_delta_direction(name: &str, light: &Light) {
         );
         let offset = s.ray_origin.as_dvec3() - centre;
         let along = offset.dot(wi.as_dvec3());
-        assert!(along.abs() <= 1e-4 * radius, "{name}: origin off the disk's plane");
+        assert!(
+            along.abs() <= 1e-4 * radius,
+            "{name}: origin off the disk's plane"
+        );
         let d2 = offset.length_squared();
         // The centre is estimated from the samples (standard error about R / 900).
         assert!(d2 <= radius * radius * 1.02, "{name}: origin off the disk");
         r2.push(d2 / (radius * radius));
         inner.push((d2 <= 0.25 * radius * radius) as u64 as f64);
     }
-    for (stats, exact, what) in [(&r2, 0.5, "mean r^2 / R^2"), (&inner, 0.25, "inner fraction")] {
+    for (stats, exact, what) in [
+        (&r2, 0.5, "mean r^2 / R^2"),
+        (&inner, 0.25, "inner fraction"),
+    ] {
         assert!(
             (stats.mean() - exact).abs() <= 5.0 * stats.std_error() + 1e-3,
             "{name}: {what} {} +- {}, uniform gives {exact}",
@@ -311,9 +317,17 @@ fn check_delta_direction(name: &str, light: &Light) {
             stats.std_error()
         );
     }
-    for p in [Vec3::ZERO, Vec3::new(0.7, -0.4, 0.9), Vec3::new(-1.0, 1.0, 1.0)] {
+    for p in [
+        Vec3::ZERO,
+        Vec3::new(0.7, -0.4, 0.9),
+        Vec3::new(-1.0, 1.0, 1.0),
+    ] {
         let s = light.sample_direct(p, rng.uniform2()).unwrap();
-        assert_eq!((s.wi, s.li, s.pdf), (wi, irradiance, 1.0), "{name}: from {p}");
+        assert_eq!(
+            (s.wi, s.li, s.pdf),
+            (wi, irradiance, 1.0),
+            "{name}: from {p}"
+        );
         // Upstream: the disk lies toward the light from the point, and the shadow ray ends
         // outside the scene's bounding sphere (radius R, touching the disk at its centre).
         let upstream = (centre - p.as_dvec3()).dot(wi.as_dvec3());

@@ -27,9 +27,18 @@ fn next_event_irradiance_on_a_plane_is_e_cos_theta() {
     let mut light = Light::directional(travelling(35.0, 20.0), E).unwrap();
     light.preprocess((Vec3::splat(-2.0), Vec3::splat(2.0)));
     assert_eq!(light.kind(), LightKind::DeltaDirection);
-    for n in [Vec3::Y, Vec3::new(0.3, 1.0, -0.2).normalize(), Vec3::X, -Vec3::Y] {
+    for n in [
+        Vec3::Y,
+        Vec3::new(0.3, 1.0, -0.2).normalize(),
+        Vec3::X,
+        -Vec3::Y,
+    ] {
         let cos = n.dot(-travelling(35.0, 20.0)).max(0.0);
-        for p in [Vec3::ZERO, Vec3::new(1.5, -1.9, 0.7), Vec3::new(-2.0, 2.0, 2.0)] {
+        for p in [
+            Vec3::ZERO,
+            Vec3::new(1.5, -1.9, 0.7),
+            Vec3::new(-2.0, 2.0, 2.0),
+        ] {
             let s = light.sample_direct(p, Vec2::new(0.4, 0.6)).unwrap();
             let e = s.li * n.dot(s.wi).max(0.0) / s.pdf;
             assert!(
@@ -85,7 +94,11 @@ fn a_sunlit_floor_has_radiance_rho_e_cos_theta_over_pi_by_nee_and_by_photons() {
     for p in 0..pt.pixels() {
         for c in 0..3 {
             let relative = (pt.mean(p, c) - expected).abs() / expected;
-            assert!(relative < 1e-5, "pt: pixel {p}: {} vs {expected}", pt.mean(p, c));
+            assert!(
+                relative < 1e-5,
+                "pt: pixel {p}: {} vs {expected}",
+                pt.mean(p, c)
+            );
         }
     }
     // Photon mapping with every bounce's photons density-estimated: the photon density on
@@ -94,7 +107,11 @@ fn a_sunlit_floor_has_radiance_rho_e_cos_theta_over_pi_by_nee_and_by_photons() {
     let ppm = render_stats(&scene, &settings(Algorithm::Ppm), 20);
     assert_uniform_image(&ppm, expected, 5.0, "ppm photon density");
     let relative = (ppm.image_mean() - expected).abs() / expected;
-    assert!(relative < 0.01, "ppm image mean {} vs {expected}", ppm.image_mean());
+    assert!(
+        relative < 0.01,
+        "ppm image mean {} vs {expected}",
+        ppm.image_mean()
+    );
 }
 
 /// A floor, a back and a left wall and a block, open at the top and the front, lit only by
@@ -118,9 +135,24 @@ fn sun_box(resolution: u32) -> SceneBuilder {
     let quad = |c: [f32; 3], u: [f32; 3], v: [f32; 3], m| {
         TriangleMesh::quad(Vec3::from(c), Vec3::from(u), Vec3::from(v), m)
     };
-    b.add_mesh(quad([-1.0, 0.0, -1.0], [0.0, 0.0, 2.0], [2.0, 0.0, 0.0], white));
-    b.add_mesh(quad([-1.0, 0.0, -1.0], [2.0, 0.0, 0.0], [0.0, 2.0, 0.0], white));
-    b.add_mesh(quad([-1.0, 0.0, -1.0], [0.0, 2.0, 0.0], [0.0, 0.0, 2.0], red));
+    b.add_mesh(quad(
+        [-1.0, 0.0, -1.0],
+        [0.0, 0.0, 2.0],
+        [2.0, 0.0, 0.0],
+        white,
+    ));
+    b.add_mesh(quad(
+        [-1.0, 0.0, -1.0],
+        [2.0, 0.0, 0.0],
+        [0.0, 2.0, 0.0],
+        white,
+    ));
+    b.add_mesh(quad(
+        [-1.0, 0.0, -1.0],
+        [0.0, 2.0, 0.0],
+        [0.0, 0.0, 2.0],
+        red,
+    ));
     add_block(&mut b, Vec3::new(0.2, 0.0, -0.1), 0.5, 0.8, white);
     b.add_light(Light::directional(Vec3::new(-0.5, -1.0, -0.6), E).unwrap());
     b
@@ -164,7 +196,10 @@ fn pt_ppm_sppm_and_vcm_agree_on_a_box_open_to_the_sun() {
 
 #[test]
 fn the_path_tracer_warning_names_a_sun_behind_glass() {
-    assert!(!sun_box(4).build().unwrap().has_delta_light_behind_specular());
+    assert!(!sun_box(4)
+        .build()
+        .unwrap()
+        .has_delta_light_behind_specular());
     let mut b = sun_box(4);
     let glass = b.add_material(Material::new(Bsdf::glass(1.5, Vec3::ONE), Vec3::ZERO));
     b.add_sphere(Sphere::new(Vec3::new(-0.4, 0.3, 0.3), 0.3, glass));
@@ -193,5 +228,10 @@ fn power_is_irradiance_times_the_disk_over_the_bounding_sphere_and_follows_the_s
         moved.sample_direct(p, Vec2::ZERO).unwrap(),
     );
     assert_eq!((a.li, a.wi), (b.li, b.wi));
-    assert!((moved.power() / sun.power() - Vec3::splat(4.0)).abs().max_element() < 1e-5);
+    assert!(
+        (moved.power() / sun.power() - Vec3::splat(4.0))
+            .abs()
+            .max_element()
+            < 1e-5
+    );
 }

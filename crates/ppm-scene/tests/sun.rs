@@ -111,7 +111,9 @@ fn the_fingerprint_sees_the_direction_and_the_irradiance() {
 
 /// `crates/ppm-core/tests/data/<name>`.
 fn data(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../ppm-core/tests/data").join(name)
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../ppm-core/tests/data")
+        .join(name)
 }
 
 /// The mean and standard error that `scripts/mitsuba/sun_caustic.py` wrote.
