@@ -184,15 +184,15 @@ fn names(algorithms: impl Iterator<Item = Algorithm>) -> String {
     algorithms.map(|a| a.name()).collect::<Vec<_>>().join(", ")
 }
 
-/// Warns when an integrator that cannot sample delta-light (point or spot) paths through a
+/// Warns when an integrator that cannot sample delta-light (point, spot or directional) paths through a
 /// mirror or glass surface ([`ppm_core::integrator::Features::delta_light_caustics`]: the path
 /// tracer) renders a scene that has them (it is offered as the reference, so the missing light
 /// would otherwise pass for the truth).
 pub fn warn_missing_light(scene: &Scene, algorithm: Algorithm, scene_path: &Path) {
     if !algorithm.features().delta_light_caustics && scene.has_delta_light_behind_specular() {
         status!(
-            "warning: {} has a point or spot light and a mirror or glass surface: the path \
-             tracer cannot render point-light light that passes a mirror or glass before a \
+            "warning: {} has a point, spot or directional light and a mirror or glass surface: the \
+             path tracer cannot render point-light light that passes a mirror or glass before a \
              diffuse surface (its caustics, its reflection); that light is missing from this \
              image. -a ppm, sppm or vcm render it",
             scene_path.display()

@@ -79,7 +79,7 @@ pub struct SceneBuilder {
     pub materials: Vec<Material>,
     pub meshes: Vec<TriangleMesh>,
     pub spheres: Vec<Sphere>,
-    /// The lights that are not emissive geometry (point and spot lights), in the order of
+    /// The lights that are not emissive geometry (point, spot and directional lights), in the order of
     /// the scene file's `lights:` list; area lights come from the materials' emission.
     pub lights: Vec<Light>,
     pub defaults: RenderDefaults,
@@ -120,7 +120,7 @@ impl SceneBuilder {
         self.spheres.push(sphere);
     }
 
-    /// Adds a light that is not emissive geometry (a point or spot light). An area light
+    /// Adds a light that is not emissive geometry (a point, spot or directional light). An area light
     /// added here is refused by [`SceneBuilder::build`]: area lights are made from the
     /// materials' emission, so that the geometry a camera path hits and the light agree.
     pub fn add_light(&mut self, light: Light) {
@@ -162,6 +162,11 @@ impl SceneBuilder {
             return Err(SceneError::MissingMaterial(s.material));
         }
         let geometry = Geometry::new(&self.meshes, &self.spheres);
+        // Lights that need the scene's extent (a directional light's disk of origins) take
+        // it now, before their power is checked and used for light selection.
+        for l in &mut self.lights {
+            l.preprocess(geometry.bounds());
+        }
         let n_tri = geometry.triangle_count() as u32;
         let n_prim = n_tri + geometry.sphere_count() as u32;
         let mut lights = Vec::new();
@@ -317,7 +322,8 @@ impl Scene {
         Some(s)
     }
 
-    /// True if the scene has a delta light (a point or spot light: [`LightKind::is_delta`])
+    /// True if the scene has a delta light (a point, spot or directional light:
+    /// [`LightKind::is_delta`])
     /// and a surface whose material has a perfectly specular lobe (mirror, glass). Light from
     /// a delta light that meets such a lobe before a diffuse or glossy surface (its caustics,
     /// its image in a mirror, its light through glass) is carried by paths a unidirectional

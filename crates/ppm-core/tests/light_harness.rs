@@ -45,7 +45,7 @@ fn light_surface(light: &Light, p: Vec3, w: Vec3) -> Option<(Vec3, Vec3)> {
             let outward = (q - l.sphere.center).normalize();
             (q, if l.sphere.inward { -outward } else { outward })
         }),
-        Light::Point(_) | Light::Spot(_) => None,
+        Light::Point(_) | Light::Spot(_) | Light::Directional(_) => None,
     }
 }
 
@@ -182,7 +182,14 @@ fn check_emitted_power(name: &str, light: &Light) {
             flux[c].std_error()
         );
     }
-    if light.is_delta() {
+    if light.kind() == LightKind::DeltaDirection {
+        // One direction, the opposite of the one next-event estimation sees the light in.
+        let wi = light.sample_direct(Vec3::ZERO, rng.uniform2()).unwrap().wi;
+        for _ in 0..1000 {
+            let s = light.sample_emission(rng.uniform2(), rng.uniform2());
+            assert_eq!(s.dir, -wi, "{name}: a directional light's one direction");
+        }
+    } else if light.is_delta() {
         // Delta lights emit from one point: every direction's density is `pdf_emission`'s,
         // so E[dir] over the samples is 4 pi E_uniform[w pdf(w)] (5 standard errors).
         let mut expected = [Stats::default(); 3];
@@ -208,6 +215,10 @@ fn check_emitted_power(name: &str, light: &Light) {
 /// emission samples carry along w (flux pdf_dir = I(w)), and integrates over the sphere to
 /// its power (uniform directions: 4 pi E[I(w)], 5 standard errors).
 fn check_delta_intensity(name: &str, light: &Light) {
+    if light.kind() == LightKind::DeltaDirection {
+        check_delta_direction(name, light);
+        return;
+    }
     if light.kind() != LightKind::DeltaPosition {
         return;
     }
@@ -252,6 +263,83 @@ fn check_delta_intensity(name: &str, light: &Light) {
     }
 }
 
+/// A light at infinity along one direction d (a delta in direction): `sample_direct` sees
+/// the same direction -d and irradiance E from every point, with a shadow ray that leaves the
+/// scene (its end outside the bounding sphere the disk covers); emission origins
+/// are uniform on a disk perpendicular to d, of area 1 / pdf_pos (the mean squared distance
+/// from its centre is R^2 / 2, and the fraction inside radius R/2 is 1/4, 5 standard errors),
+/// upstream of every point seen from, and carry flux pdf_pos = E: the photon density on a
+/// surface facing the light is its irradiance.
+fn check_delta_direction(name: &str, light: &Light) {
+    let mut rng = Rng::new(seed(name), 7, 0);
+    let first = light.sample_direct(Vec3::ZERO, rng.uniform2()).unwrap();
+    let (wi, irradiance) = (first.wi, first.li);
+    let samples: Vec<_> = (0..SAMPLES)
+        .map(|_| light.sample_emission(rng.uniform2(), rng.uniform2()))
+        .collect();
+    let pdf_pos = samples[0].pdf_pos;
+    let radius = (1.0 / (PI * pdf_pos as f64)).sqrt();
+    let n = samples.len() as f64;
+    let centre = samples
+        .iter()
+        .map(|s| s.ray_origin.as_dvec3())
+        .sum::<glam::DVec3>()
+        / n;
+    let (mut r2, mut inner) = (Stats::default(), Stats::default());
+    for s in &samples {
+        assert_eq!(s.pdf_pos, pdf_pos, "{name}: uniform on the disk");
+        assert_eq!(light.pdf_emission(s.n, s.dir), (pdf_pos, 1.0), "{name}");
+        let carried = s.flux * s.pdf_pos;
+        assert!(
+            (carried - irradiance).abs().max_element() <= 1e-5 * irradiance.max_element(),
+            "{name}: emission carries {carried} per unit area, sample_direct sees {irradiance}"
+        );
+        let offset = s.ray_origin.as_dvec3() - centre;
+        let along = offset.dot(wi.as_dvec3());
+        assert!(
+            along.abs() <= 1e-4 * radius,
+            "{name}: origin off the disk's plane"
+        );
+        let d2 = offset.length_squared();
+        // The centre is estimated from the samples (standard error about R / 900).
+        assert!(d2 <= radius * radius * 1.02, "{name}: origin off the disk");
+        r2.push(d2 / (radius * radius));
+        inner.push((d2 <= 0.25 * radius * radius) as u64 as f64);
+    }
+    for (stats, exact, what) in [
+        (&r2, 0.5, "mean r^2 / R^2"),
+        (&inner, 0.25, "inner fraction"),
+    ] {
+        assert!(
+            (stats.mean() - exact).abs() <= 5.0 * stats.std_error() + 1e-3,
+            "{name}: {what} {} +- {}, uniform gives {exact}",
+            stats.mean(),
+            stats.std_error()
+        );
+    }
+    for p in [
+        Vec3::ZERO,
+        Vec3::new(0.7, -0.4, 0.9),
+        Vec3::new(-1.0, 1.0, 1.0),
+    ] {
+        let s = light.sample_direct(p, rng.uniform2()).unwrap();
+        assert_eq!(
+            (s.wi, s.li, s.pdf),
+            (wi, irradiance, 1.0),
+            "{name}: from {p}"
+        );
+        // Upstream: the disk lies toward the light from the point, and the shadow ray ends
+        // outside the scene's bounding sphere (radius R, touching the disk at its centre).
+        let upstream = (centre - p.as_dvec3()).dot(wi.as_dvec3());
+        assert!(upstream > 0.0, "{name}: the disk is not upstream of {p}");
+        let sphere_centre = centre - wi.as_dvec3() * radius;
+        assert!(
+            (s.p.as_dvec3() - sphere_centre).length() >= radius * 0.999,
+            "{name}: the shadow ray from {p} ends inside the scene"
+        );
+    }
+}
+
 /// `pdf_emission` gives the densities each emission sample was drawn with (the same values,
 /// so bidirectional MIS weights use the densities of the sampler), and its direction density
 /// integrates to 1 over the sphere (Monte Carlo with uniform directions, 5 standard errors).
@@ -270,6 +358,10 @@ fn check_pdf_emission(name: &str, light: &Light) {
         );
         let w = uniform_sphere(rng.uniform2());
         integral.push(4.0 * PI * light.pdf_emission(s.n, w).1 as f64);
+    }
+    if light.kind() == LightKind::DeltaDirection {
+        // A delta in direction has no density over the sphere (`check_delta_direction`).
+        return;
     }
     assert!(
         (integral.mean() - 1.0).abs() <= 5.0 * integral.std_error() + 1e-6,
@@ -417,6 +509,15 @@ fn spot_wide() -> Light {
     .unwrap()
 }
 
+/// A sun: irradiance (2, 1, 0.5) W/m^2 travelling down and sideways, over a scene whose
+/// bounds are the box [-1, 2] x [-1, 1] x [-1, 1].
+fn sun() -> Light {
+    let mut light =
+        Light::directional(Vec3::new(0.3, -1.0, 0.2), Vec3::new(2.0, 1.0, 0.5)).unwrap();
+    light.preprocess((Vec3::new(-1.0, -1.0, -1.0), Vec3::new(2.0, 1.0, 1.0)));
+    light
+}
+
 light_harness! {
     triangle: downward_triangle() => [
         Vec3::new(0.1, 0.4, 0.0),            // below, in front of it
@@ -448,5 +549,9 @@ light_harness! {
     spot_light_wide: spot_wide() => [
         Vec3::new(-0.3, 1.0, 0.0),           // behind the plane of the light, in the cone
         Vec3::new(-1.0, 0.2, 0.0),           // outside the cone
+    ],
+    sun: sun() => [
+        Vec3::ZERO,
+        Vec3::new(2.0, -1.0, 1.0),           // a corner of the bounds
     ],
 }

@@ -181,7 +181,7 @@ pub fn build(
             .any(|mesh| mesh.materials.iter().any(|&m| emits(m)));
     if !has_light {
         warnings.push(format!(
-            "{}: the scene has no light (no emissive material on any object, no point or spot light): the image will be black",
+            "{}: the scene has no light (no emissive material on any object, no point, spot or directional light): the image will be black",
             path.display()
         ));
     }
@@ -190,10 +190,11 @@ pub fn build(
 
 /// A light of the `lights:` list (at `field`), its points made relative to `origin`.
 fn light(l: &LightDesc, field: &str, origin: DVec3, path: &Path) -> Result<Light, LoadError> {
-    let position = l.position.relative_to(origin);
-    let intensity = l.intensity.value();
     let kind = light_type_name(l.kind);
     let present = [
+        ("position", l.position.is_some()),
+        ("intensity", l.intensity.is_some()),
+        ("irradiance", l.irradiance.is_some()),
         ("direction", l.direction.is_some()),
         ("look_at", l.look_at.is_some()),
         ("cone_angle", l.cone_angle.is_some()),
@@ -209,15 +210,50 @@ fn light(l: &LightDesc, field: &str, origin: DVec3, path: &Path) -> Result<Light
             "cone_angle",
             "falloff_start",
         ],
+        LightType::Directional => &["direction", "irradiance"],
     };
     check_fields(path, field, kind, &present, allowed)?;
     let invalid = |name: &str, why: String| LoadError::invalid(path, format!("{field}{name}"), why);
+    // The required fields, each named when missing.
+    let position = || {
+        l.position
+            .as_ref()
+            .map(|p| p.relative_to(origin))
+            .ok_or_else(|| invalid("", format!("a {kind} needs `position`")))
+    };
+    let intensity = || {
+        l.intensity
+            .as_ref()
+            .map(|i| i.value())
+            .ok_or_else(|| invalid("", format!("a {kind} needs `intensity`")))
+    };
     match l.kind {
         LightType::Point => Ok(Light::Point(PointLight {
-            position,
-            intensity,
+            position: position()?,
+            intensity: intensity()?,
         })),
+        LightType::Directional => {
+            let direction = l
+                .direction
+                .as_ref()
+                .ok_or_else(|| {
+                    invalid(
+                        "",
+                        "a directional light needs `direction` (the way its light travels)".into(),
+                    )
+                })?
+                .value();
+            let irradiance = l
+                .irradiance
+                .as_ref()
+                .ok_or_else(|| invalid("", "a directional light needs `irradiance`".into()))?
+                .value();
+            Light::directional(direction, irradiance).ok_or_else(|| {
+                invalid(".direction", "a zero direction has no way to travel".into())
+            })
+        }
         LightType::Spot => {
+            let (position, intensity) = (position()?, intensity()?);
             let direction = match (&l.direction, &l.look_at) {
                 (Some(d), None) => d.value(),
                 (None, Some(target)) => target.relative_to(origin) - position,
@@ -280,6 +316,7 @@ fn light_type_name(kind: LightType) -> &'static str {
     match kind {
         LightType::Point => "point light",
         LightType::Spot => "spot light",
+        LightType::Directional => "directional light",
     }
 }
 

@@ -257,6 +257,13 @@ impl Fingerprint {
                 .field("intensity", |f| f.vec3(*intensity))
                 .end(),
             Light::Spot(spot) => self.spot(spot),
+            // The disk of origins is set from the geometry when the scene is built; the
+            // file gives the direction and the irradiance.
+            Light::Directional(light) => self
+                .record("DirectionalLight")
+                .field("direction", |f| f.vec3(light.direction()))
+                .field("irradiance", |f| f.vec3(light.irradiance))
+                .end(),
             // The builder refuses these (area lights come from emissive materials), but a
             // fingerprint is taken before building: they are written in full all the same.
             Light::Triangle(TriangleLight {

@@ -94,19 +94,24 @@ pub struct ObjectDesc {
 pub enum LightType {
     Point,
     Spot,
+    Directional,
 }
 
-/// One light without geometry; which fields apply beyond `position` and `intensity` depends
-/// on `type` (checked in `build.rs`).
+/// One light without geometry; which fields apply, and which are required, depends on
+/// `type` (checked in `build.rs`).
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct LightDesc {
     #[serde(rename = "type")]
     pub kind: LightType,
-    pub position: Point,
+    /// Where a point or spot light is.
+    pub position: Option<Point>,
     /// Radiant intensity in W/sr per channel (a spot light's on its axis).
-    pub intensity: Triple<NonNegative>,
-    /// A spot light's axis, as a direction or as a point it aims at.
+    pub intensity: Option<Triple<NonNegative>>,
+    /// A directional light's irradiance in W/m^2 per channel (on a surface facing it).
+    pub irradiance: Option<Triple<NonNegative>>,
+    /// A spot light's axis, as a direction or as a point it aims at; the direction a
+    /// directional light travels (`direction` only).
     pub direction: Option<Point>,
     pub look_at: Option<Point>,
     /// A spot light's cone angle and falloff start, degrees from the axis.

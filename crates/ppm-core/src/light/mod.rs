@@ -1,5 +1,5 @@
-//! Lights: every emissive triangle and sphere is an area light; point and spot lights have no
-//! geometry.
+//! Lights: every emissive triangle and sphere is an area light; point, spot and directional
+//! lights have no geometry.
 //!
 //! A closed set of models behind one enum, one file per model, as for the BSDFs. Each model
 //! tells its [`LightKind`] (pbrt-v4's `LightType`); code outside this module asks the kind,
@@ -17,6 +17,11 @@
 //!   [`Light::pdf_direct`] and [`Light::le`] are zero. Their emission leaves one point:
 //!   [`Light::pdf_emission`] is (1, the direction's solid-angle density). A point light of
 //!   intensity I (W/sr) has Phi = 4 pi I; a spot light's power is in `spot.rs`.
+//! - A directional light ([`DirectionalLight`], a delta in direction) is found by
+//!   [`Light::sample_direct`] alone too (pdf 1, radiance a delta of weight E, the
+//!   irradiance); its emission leaves a disk covering the scene's bounding sphere along its
+//!   one direction: [`Light::pdf_emission`] is (1/(pi R^2), 1) and Phi = E pi R^2. It needs
+//!   the scene's bounds: [`Light::preprocess`], once, when the scene is built.
 //! - [`Light::pdf_direct`] is the solid-angle density with which [`Light::sample_direct`]
 //!   produces a point, computed by the same expressions, so the two agree exactly.
 //! - [`Light::sample_emission`] starts a light path; the mean of its `flux` is
@@ -26,11 +31,13 @@
 //! operation handles it. To add one, see ARCHITECTURE.md ("To add a light").
 
 mod area;
+mod directional;
 mod point;
 mod sphere;
 mod spot;
 mod triangle;
 
+pub use directional::DirectionalLight;
 pub use point::PointLight;
 pub use sphere::SphereLight;
 pub use spot::SpotLight;
@@ -57,6 +64,8 @@ pub enum Light {
     Point(PointLight),
     /// A spot light (a delta light emitting into a cone).
     Spot(SpotLight),
+    /// A directional light, the sun (a delta in direction, from infinitely far).
+    Directional(DirectionalLight),
 }
 
 /// What sort of light a model is, as pbrt-v4's `LightType` says it: what finds it and what
@@ -66,7 +75,8 @@ pub enum LightKind {
     /// Emits from one point (point and spot lights): only light sampling finds it, a camera
     /// path never hits it, and its light through a specular surface is beyond a path tracer.
     DeltaPosition,
-    /// Emits along one direction from infinitely far (a distant light). No model yet.
+    /// Emits along one direction from infinitely far (a directional light): only light
+    /// sampling finds it, and its light through a specular surface is beyond a path tracer.
     DeltaDirection,
     /// Emits from the surface of scene geometry (emissive triangles and spheres).
     Area,
@@ -75,6 +85,16 @@ pub enum LightKind {
 }
 
 impl LightKind {
+    /// True for the kinds at infinity (directional and environment lights): their light
+    /// paths reach the first vertex with a density that does not fall off with distance.
+    #[inline]
+    pub fn is_infinite(self) -> bool {
+        match self {
+            LightKind::DeltaDirection | LightKind::Infinite => true,
+            LightKind::DeltaPosition | LightKind::Area => false,
+        }
+    }
+
     /// True for the kinds that only light sampling finds (a delta distribution in position
     /// or direction).
     #[inline]
@@ -139,23 +159,42 @@ impl Light {
         SpotLight::new(position, direction, intensity, cone_angle, falloff_start).map(Light::Spot)
     }
 
+    /// A directional light travelling along `direction` with irradiance `irradiance`
+    /// (W/m^2); `None` for a zero or non-finite direction (see [`DirectionalLight::new`]).
+    pub fn directional(direction: Vec3, irradiance: Vec3) -> Option<Self> {
+        DirectionalLight::new(direction, irradiance).map(Light::Directional)
+    }
+
     /// The model's kind. One exhaustive match: a new model says here what it is.
     #[inline]
     pub fn kind(&self) -> LightKind {
         match self {
             Light::Triangle(_) | Light::Sphere(_) => LightKind::Area,
             Light::Point(_) | Light::Spot(_) => LightKind::DeltaPosition,
+            Light::Directional(_) => LightKind::DeltaDirection,
         }
     }
 
     /// Total emitted power per channel: pi * A * Le for an area light, 4 pi I for a point light,
-    /// the integral of the falloff for a spot light.
+    /// the integral of the falloff for a spot light, E pi R^2 for a directional light (after
+    /// [`Light::preprocess`]).
     pub fn power(&self) -> Vec3 {
         match self {
             Light::Triangle(light) => light.power(),
             Light::Sphere(light) => light.power(),
             Light::Point(light) => light.power(),
             Light::Spot(light) => light.power(),
+            Light::Directional(light) => light.power(),
+        }
+    }
+
+    /// The build-time step, once the scene's geometry is known: a directional light takes
+    /// the scene's bounds (min, max) to place its disk of origins (see `directional.rs`);
+    /// the other models need nothing. [`crate::SceneBuilder::build`] calls it.
+    pub fn preprocess(&mut self, bounds: (Vec3, Vec3)) {
+        match self {
+            Light::Directional(light) => light.preprocess(bounds),
+            Light::Triangle(_) | Light::Sphere(_) | Light::Point(_) | Light::Spot(_) => {}
         }
     }
 
@@ -170,6 +209,7 @@ impl Light {
             Light::Sphere(light) => light.sphere.center += offset,
             Light::Point(light) => light.position += offset,
             Light::Spot(light) => light.position += offset,
+            Light::Directional(light) => light.translate(offset),
         }
     }
 
@@ -177,7 +217,8 @@ impl Light {
     /// `offset` (every point p to p scale + offset), lighting the scaled scene as it lit the
     /// original: an area light keeps its radiance (its power grows by scale^2 with its area),
     /// a delta light's intensity grows by scale^2 so its irradiance at the scaled distances is
-    /// kept. Directions and angles do not change.
+    /// kept, a directional light keeps its irradiance (its disk of origins follows the scene).
+    /// Directions and angles do not change.
     pub fn transform(&mut self, scale: f32, offset: Vec3) {
         let scale2 = scale * scale;
         match self {
@@ -199,6 +240,7 @@ impl Light {
                 light.position = light.position * scale + offset;
                 light.intensity *= scale2;
             }
+            Light::Directional(light) => light.transform(scale, offset),
         }
     }
 
@@ -209,6 +251,7 @@ impl Light {
             Light::Sphere(_) => "emissive sphere",
             Light::Point(_) => "point light",
             Light::Spot(_) => "spot light",
+            Light::Directional(_) => "directional light",
         }
     }
 
@@ -224,6 +267,7 @@ impl Light {
                 light.intensity,
                 light.cone_angle().to_degrees()
             ),
+            Light::Directional(light) => format!("irradiance {}", light.irradiance),
         }
     }
 
@@ -232,7 +276,7 @@ impl Light {
         match self {
             Light::Triangle(light) => Some(light.prim),
             Light::Sphere(light) => Some(light.prim),
-            Light::Point(_) | Light::Spot(_) => None,
+            Light::Point(_) | Light::Spot(_) | Light::Directional(_) => None,
         }
     }
 
@@ -258,6 +302,10 @@ impl Light {
                     light.intensity.max_element(),
                 )
             }
+            Light::Directional(light) => (
+                std::f64::consts::PI * (light.radius() as f64).powi(2),
+                light.irradiance.max_element(),
+            ),
         };
         Err(scale * value as f64)
     }
@@ -278,6 +326,7 @@ impl Light {
             Light::Sphere(light) => light.emitter(u).sample_direct(p),
             Light::Point(light) => light.sample_direct(p),
             Light::Spot(light) => light.sample_direct(p),
+            Light::Directional(light) => light.sample_direct(p),
         }
     }
 
@@ -288,7 +337,7 @@ impl Light {
         match self {
             Light::Triangle(light) => area::pdf_direct(light.area, p, q, n),
             Light::Sphere(light) => area::pdf_direct(light.sphere.area(), p, q, n),
-            Light::Point(_) | Light::Spot(_) => 0.0,
+            Light::Point(_) | Light::Spot(_) | Light::Directional(_) => 0.0,
         }
     }
 
@@ -299,7 +348,7 @@ impl Light {
         match self {
             Light::Triangle(light) => area::le(light.le, n, w),
             Light::Sphere(light) => area::le(light.le, n, w),
-            Light::Point(_) | Light::Spot(_) => Vec3::ZERO,
+            Light::Point(_) | Light::Spot(_) | Light::Directional(_) => Vec3::ZERO,
         }
     }
 
@@ -307,7 +356,8 @@ impl Light {
     /// and a cosine-weighted direction (pdf cos/pi) about the emitting normal, so the flux
     /// weight Le cos / (p_area p_dir) = pi A Le is the same for every sample. Point lights: a
     /// uniform direction (pdf 1/(4 pi)), weight 4 pi I. Spot lights: a direction uniform in
-    /// the cone, weighted by the falloff (`spot.rs`).
+    /// the cone, weighted by the falloff (`spot.rs`). Directional lights: a point uniform on
+    /// the disk covering the scene (pdf 1/(pi R^2)) and the light's direction, weight E pi R^2.
     /// Always inlined (once per light path): left to LLVM it stayed a call, and so did the
     /// emitter's sampling inside it.
     #[inline(always)]
@@ -317,6 +367,7 @@ impl Light {
             Light::Sphere(light) => light.emitter(u_pos).sample_emission(u_dir),
             Light::Point(light) => light.sample_emission(u_dir),
             Light::Spot(light) => light.sample_emission(u_dir),
+            Light::Directional(light) => light.sample_emission(u_pos),
         }
     }
 
@@ -324,7 +375,9 @@ impl Light {
     /// the point with emitting normal `n` in unit direction `w`: (area pdf of the point, solid-
     /// angle pdf of the direction), not counting the choice of the light. Area lights:
     /// (1/A, max(0, n . w)/pi); point lights: (1, 1/(4 pi)); spot lights: (1, 1/(2 pi (1 -
-    /// cos theta_e))) inside the cone, (1, 0) outside (`n` is ignored for both). Bidirectional
+    /// cos theta_e))) inside the cone, (1, 0) outside (`n` is ignored for both); directional
+    /// lights: (1/(pi R^2), 1), the disk's area density and the delta direction's discrete
+    /// weight (`w` is taken to be the light's direction, the only one it emits). Bidirectional
     /// estimators need them for the paths that other strategies found (the reverse pdfs of
     /// vertex connection and merging, Georgiev et al. 2012).
     #[inline]
@@ -334,6 +387,28 @@ impl Light {
             Light::Sphere(light) => (1.0 / light.sphere.area(), area::pdf_emission_dir(n, w)),
             Light::Point(_) => (1.0, point::PDF_EMISSION_DIR),
             Light::Spot(light) => (1.0, light.pdf_emission_dir(w)),
+            Light::Directional(light) => (light.pdf_pos(), 1.0),
+        }
+    }
+
+    /// The area density, at a point that next-event estimation connected to this light by
+    /// `ls` (with |cos| `cos` between the point's normal and `ls.wi`), with which the light's
+    /// emission reaches that point, relative to the density with which next-event estimation
+    /// chose the light's point (SmallVCM's emissionPdfW cosToLight / (directPdfW cosAtLight);
+    /// Georgiev 2012, TR eqs. 44-45). Lights at a point (area, point, spot lights): the
+    /// emission direction's pdf toward the point, turned into area measure there, p_W(-wi)
+    /// |cos| / d^2 (for area lights the origin's 1/A cancels against next-event's). A
+    /// directional light: next-event's direction has probability 1 and its parallel rays
+    /// leave the disk with area density 1/(pi R^2), projected onto the point's surface:
+    /// |cos| / (pi R^2), with no distance (the light is at infinity).
+    #[inline]
+    pub fn pdf_emission_at(&self, ls: &DirectSample, cos: f32) -> f32 {
+        match self {
+            Light::Directional(light) => light.pdf_pos() * cos,
+            Light::Triangle(_) | Light::Sphere(_) | Light::Point(_) | Light::Spot(_) => {
+                let (_, pdf_dir) = self.pdf_emission(ls.n, -ls.wi);
+                pdf_dir * cos / (ls.dist * ls.dist)
+            }
         }
     }
 

@@ -173,7 +173,8 @@ impl CameraPass<'_> {
     /// w_light = mis(p_bsdf(wi) / (p_light p_W)) (0 for point lights, which the camera
     /// subpath cannot hit), w_camera = mis(p_e(-wi) |cos wi| / d^2) (mis(eta_VCM) + dVCM +
     /// dVC mis(p_rev)), with p_e the light's emission direction pdf toward the vertex (the
-    /// light subpath reaching the vertex, as an area density there) and p_rev the pdf at the
+    /// light subpath reaching the vertex, as an area density there: `Light::pdf_emission_at`,
+    /// |cos wi| / (pi R^2) for a directional light) and p_rev the pdf at the
     /// vertex of the direction back along the camera subpath given wi.
     #[inline]
     fn direct(&self, x: &CameraVertex, rng: &mut Rng, counters: &mut RayCounters) -> Vec3 {
@@ -192,14 +193,13 @@ impl CameraPass<'_> {
         let Some(e) = x.v.eval(ls.wi, TransportMode::Radiance) else {
             return Vec3::ZERO;
         };
-        let (_, pdf_emit_dir) = light.pdf_emission(ls.n, -ls.wi);
         let pdf_light = p_light * ls.pdf;
         let weight = direct_weight(
             x.state,
             pdf_light,
             ls.is_delta,
             e.pdf_forward,
-            pdf_emit_dir * e.cos / (ls.dist * ls.dist),
+            light.pdf_emission_at(&ls, e.cos),
             e.pdf_reverse,
             &self.mis,
         );

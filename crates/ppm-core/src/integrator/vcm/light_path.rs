@@ -72,13 +72,20 @@ pub(super) fn trace_light_subpath(
     } else {
         emission.n.dot(emission.dir)
     };
-    let mut state = SubpathMis::light_start(
-        p_light * emission.pdf_pos,
-        emission.pdf_dir,
-        cos_light,
-        delta,
-        c,
-    );
+    // A light at infinity (directional) starts the sums from its disk's density and its
+    // first edge has no distance term (`SubpathMis::light_start_at_infinity`).
+    let at_infinity = light.kind().is_infinite();
+    let mut state = if at_infinity {
+        SubpathMis::light_start_at_infinity(emission.pdf_pos)
+    } else {
+        SubpathMis::light_start(
+            p_light * emission.pdf_pos,
+            emission.pdf_dir,
+            cos_light,
+            delta,
+            c,
+        )
+    };
     let mut ray = Light::emission_ray(&emission);
     let mut edges = 0;
     loop {
@@ -93,7 +100,12 @@ pub(super) fn trace_light_subpath(
         edges += 1;
         let bsdf = scene.material(&hit).bsdf;
         let v = SurfaceVertex::new(hit, bsdf, -ray.dir);
-        if !state.arrive(hit.t * hit.t, v.cos_wo()) {
+        let dist2 = if at_infinity && edges == 1 {
+            1.0
+        } else {
+            hit.t * hit.t
+        };
+        if !state.arrive(dist2, v.cos_wo()) {
             return;
         }
         if !bsdf.is_delta() {
