@@ -13,7 +13,7 @@ mod common;
 
 use common::{chi2_directions, close, close3, direction, seed, sidak, Stats, IORS};
 use glam::{Vec2, Vec3};
-use ppm_core::bsdf::{Bsdf, BsdfFlags, Lobe, TransportMode};
+use ppm_core::bsdf::{Bsdf, BsdfFlags, Ggx, Lobe, TransportMode};
 use ppm_core::sampling::{uniform_sphere, Rng};
 use std::f32::consts::PI;
 
@@ -46,7 +46,14 @@ fn known_albedo(bsdf: &Bsdf, wo: Vec3) -> Option<Vec3> {
     match bsdf {
         Bsdf::Diffuse(d) => Some(d.albedo),
         Bsdf::Phong(p) => (wo.z.abs() == 1.0).then_some(p.diffuse + p.specular),
-        Bsdf::Mirror(_) | Bsdf::Glass(_) => None,
+        Bsdf::Mirror(_)
+        | Bsdf::Glass(_)
+        | Bsdf::Conductor(_)
+        | Bsdf::Dielectric(_)
+        | Bsdf::ThinDielectric(_)
+        | Bsdf::Plastic(_)
+        | Bsdf::TwoSidedConductor(_)
+        | Bsdf::TwoSidedPlastic(_) => None,
     }
 }
 
@@ -65,7 +72,11 @@ fn check_chi2(name: &str, bsdf: &Bsdf, chi2_tests: usize) {
         let mut rng = Rng::new(seed(name), k as u64, 0);
         let sample = |rng: &mut Rng| {
             let (u_lobe, u) = (rng.uniform(), rng.uniform2());
-            bsdf.sample(wo, u_lobe, u, RADIANCE).map(|s| s.wi)
+            // A delta lobe of a model that mixes it with non-delta ones (smooth plastic) has no
+            // density: its samples count as "no sample", expected 1 - integral of pdf.
+            bsdf.sample(wo, u_lobe, u, RADIANCE)
+                .filter(|s| s.lobe != Lobe::Specular)
+                .map(|s| s.wi)
         };
         let o = match chi2_directions(CHI2_SAMPLES, &mut rng, sample, |wi| bsdf.pdf(wo, wi) as f64)
         {
@@ -104,8 +115,9 @@ fn check_chi2(name: &str, bsdf: &Bsdf, chi2_tests: usize) {
 }
 
 /// What `sample` returns agrees with `pdf` and `eval`: pdf(wo, wi) equals the returned pdf,
-/// weight = f |cos(wi)| / pdf, the lobe is not a delta; and `pdf > 0` wherever `f > 0`
-/// (otherwise the estimator would miss part of the integrand).
+/// weight = f |cos(wi)| / pdf, the lobe is not a delta unless the flags have one (then its pdf
+/// is a probability, its weight finite); and `pdf > 0` wherever `f > 0` (otherwise the
+/// estimator would miss part of the integrand).
 fn check_consistency(name: &str, bsdf: &Bsdf) {
     let mut rng = Rng::new(seed(name), 1, 1);
     let mut directions = incident_directions();
@@ -116,11 +128,17 @@ fn check_consistency(name: &str, bsdf: &Bsdf) {
             let Some(s) = bsdf.sample(wo, u_lobe, u, RADIANCE) else {
                 continue;
             };
-            assert_ne!(
-                s.lobe,
-                Lobe::Specular,
-                "{name}: a non-delta BSDF returned a delta lobe"
-            );
+            if s.lobe == Lobe::Specular {
+                assert!(
+                    bsdf.flags().contains(BsdfFlags::SPECULAR),
+                    "{name}: a non-delta BSDF returned a delta lobe"
+                );
+                assert!(
+                    s.pdf > 0.0 && s.pdf <= 1.0 && s.weight.is_finite(),
+                    "{name}: delta sample {s:?}"
+                );
+                continue;
+            }
             assert!(
                 (s.wi.length() - 1.0).abs() < 1e-4,
                 "{name}: wi = {} not unit",
@@ -164,9 +182,14 @@ fn check_consistency(name: &str, bsdf: &Bsdf) {
     }
 }
 
-/// f(wo, wi) = f(wi, wo) (Helmholtz), and the same in both transport modes, on random pairs and
-/// on sampled pairs (which find the narrow glossy peaks).
+/// The adjoint BSDF (light paths) is the radiance one with its arguments swapped,
+/// f*(wo, wi) = f(wi, wo) (Veach 1997, eq. 3.21), for every pair; and f(wo, wi) = f(wi, wo)
+/// (Helmholtz) for reflection, and for refraction too where the model does not refract
+/// (there the two modes agree). Refraction by a relative index eta is reciprocal only up to
+/// eta^2 (Veach 1997, eq. 5.14), which the adjoint check covers. On random pairs and on sampled
+/// pairs (which find the narrow glossy peaks).
 fn check_reciprocity(name: &str, bsdf: &Bsdf) {
+    let refracts = bsdf.flags().contains(BsdfFlags::TRANSMISSION);
     let mut rng = Rng::new(seed(name), 2, 2);
     for _ in 0..20_000 {
         let wo = uniform_sphere(rng.uniform2());
@@ -176,22 +199,27 @@ fn check_reciprocity(name: &str, bsdf: &Bsdf) {
         for wi in std::iter::once(random).chain(sampled) {
             let f = bsdf.eval(wo, wi, RADIANCE);
             let f_swapped = bsdf.eval(wi, wo, RADIANCE);
+            let adjoint = bsdf.eval(wo, wi, IMPORTANCE);
             assert!(
-                close3(f, f_swapped, 1e-4),
-                "{name}: f({wo}, {wi}) = {f} != f(wi, wo) = {f_swapped}"
+                close3(adjoint, f_swapped, 1e-4),
+                "{name}: f*({wo}, {wi}) = {adjoint} != f(wi, wo) = {f_swapped}"
             );
-            assert_eq!(
-                f,
-                bsdf.eval(wo, wi, IMPORTANCE),
-                "{name}: eval depends on the transport mode"
-            );
+            if !refracts || wo.z * wi.z > 0.0 {
+                assert!(
+                    close3(f, f_swapped, 1e-4),
+                    "{name}: f({wo}, {wi}) = {f} != f(wi, wo) = {f_swapped}"
+                );
+                assert_eq!(f, adjoint, "{name}: eval depends on the transport mode");
+            }
         }
     }
 }
 
 /// Directional albedo rho(wo) = integral of f |cos(wi)| dwi, by two estimators: the mean sample
 /// weight (lost samples count 0) and uniform sphere sampling, f |cos| / (1 / (4 pi)). Both must
-/// be <= 1 within noise, agree with each other, and match the closed form where known.
+/// be <= 1 within noise, agree with each other, and match the closed form where known. The
+/// albedo is the fraction of flux scattered, so it is taken on light paths (importance mode):
+/// on camera paths a refraction out of a dense medium multiplies radiance by eta^2.
 fn check_energy(name: &str, bsdf: &Bsdf) {
     const N: usize = 100_000;
     for (k, wo) in incident_directions().into_iter().enumerate() {
@@ -200,11 +228,14 @@ fn check_energy(name: &str, bsdf: &Bsdf) {
         let mut by_uniform = [Stats::default(); 3];
         for _ in 0..N {
             let (u_lobe, u) = (rng.uniform(), rng.uniform2());
-            let w = bsdf
-                .sample(wo, u_lobe, u, RADIANCE)
-                .map_or(Vec3::ZERO, |s| s.weight);
+            // Delta samples of a mixed model add their albedo to the first estimator only.
+            let (w, delta) = match bsdf.sample(wo, u_lobe, u, IMPORTANCE) {
+                Some(s) if s.lobe == Lobe::Specular => (s.weight, s.weight),
+                Some(s) => (s.weight, Vec3::ZERO),
+                None => (Vec3::ZERO, Vec3::ZERO),
+            };
             let wi = uniform_sphere(rng.uniform2());
-            let g = bsdf.eval(wo, wi, RADIANCE) * wi.z.abs() * (4.0 * PI);
+            let g = bsdf.eval(wo, wi, IMPORTANCE) * wi.z.abs() * (4.0 * PI) + delta;
             for c in 0..3 {
                 by_sampling[c].push(w[c] as f64);
                 by_uniform[c].push(g[c] as f64);
@@ -498,6 +529,110 @@ bsdf_harness! {
     phong_n0: Bsdf::phong(Vec3::splat(0.3), Vec3::splat(0.5), 0.0),
     phong_glossy_only: Bsdf::phong(Vec3::ZERO, Vec3::new(0.9, 0.7, 1.0), 50.0),
     phong_diffuse_only: Bsdf::phong(Vec3::splat(0.7), Vec3::ZERO, 20.0),
+    rough_conductor_a0_05: rough_gold(Ggx::isotropic(0.05)),
+    rough_conductor_a0_3: rough_gold(Ggx::isotropic(0.3)),
+    rough_conductor_a1: rough_gold(Ggx::isotropic(1.0)),
+    rough_conductor_anisotropic: rough_gold(Ggx::new(0.05, 0.4)),
+    rough_conductor_two_sided: rough_gold(Ggx::isotropic(0.2)).two_sided().unwrap(),
+    rough_dielectric_a0_05: Bsdf::dielectric(1.5, Some(Ggx::isotropic(0.05))),
+    rough_dielectric_a0_3: Bsdf::dielectric(1.5, Some(Ggx::isotropic(0.3))),
+    rough_dielectric_a1: Bsdf::dielectric(2.4, Some(Ggx::isotropic(1.0))),
+    rough_dielectric_water_in_glass: Bsdf::dielectric(1.33 / 1.5, Some(Ggx::isotropic(0.2))),
+    rough_dielectric_anisotropic: Bsdf::dielectric(1.5, Some(Ggx::new(0.4, 0.08))),
+    rough_plastic_a0_1: Bsdf::plastic(
+        Vec3::new(0.2, 0.5, 0.8), Vec3::ONE, 1.49, Some(Ggx::isotropic(0.1))
+    ),
+    rough_plastic_a0_6_tinted: Bsdf::plastic(
+        Vec3::splat(0.5), Vec3::new(0.9, 0.7, 0.5), 1.6, Some(Ggx::isotropic(0.6))
+    ),
+    smooth_plastic: Bsdf::plastic(Vec3::new(0.2, 0.5, 0.8), Vec3::ONE, 1.49, None),
+    smooth_plastic_two_sided: Bsdf::plastic(Vec3::splat(0.6), Vec3::splat(0.8), 1.7, None)
+        .two_sided()
+        .unwrap(),
+}
+
+/// Gold's RGB index (Mitsuba's `Au`), rough.
+fn rough_gold(ggx: Ggx) -> Bsdf {
+    Bsdf::conductor(
+        Vec3::new(0.143036, 0.375307, 1.44205),
+        Vec3::new(3.983, 2.38556, 1.60336),
+        Vec3::ONE,
+        Some(ggx),
+    )
+}
+
+/// Near-specular roughness (alpha 0.001 is a lobe of 0.06 degrees, far narrower than the
+/// chi-square histogram's cells and than uniform directions can find): every check but the
+/// chi-square and the energy test's uniform estimator, whose roles the consistency of
+/// `sample` with `pdf` and a second estimator take: as alpha goes to 0 the rough model's
+/// albedo (mean sample weight, on light paths) tends to its smooth counterpart's, within
+/// noise up to 85 degrees (at 89.9 degrees the masking of alpha 0.001 still removes 7%).
+#[test]
+fn microfacet_models_at_alpha_0_001() {
+    let ggx = Some(Ggx::isotropic(0.001));
+    let gold = |r| {
+        Bsdf::conductor(
+            Vec3::new(0.143036, 0.375307, 1.44205),
+            Vec3::new(3.983, 2.38556, 1.60336),
+            Vec3::ONE,
+            r,
+        )
+    };
+    let models = [
+        ("conductor", gold(ggx), gold(None)),
+        ("dielectric", Bsdf::dielectric(1.5, ggx), Bsdf::dielectric(1.5, None)),
+        (
+            "water in glass",
+            Bsdf::dielectric(1.33 / 1.5, ggx),
+            Bsdf::dielectric(1.33 / 1.5, None),
+        ),
+        (
+            "plastic",
+            Bsdf::plastic(Vec3::splat(0.5), Vec3::ONE, 1.49, ggx),
+            Bsdf::plastic(Vec3::splat(0.5), Vec3::ONE, 1.49, None),
+        ),
+    ];
+    for (name, rough, smooth) in models {
+        check_consistency(name, &rough);
+        check_reciprocity(name, &rough);
+        check_grazing(name, &rough);
+        check_decomposition(name, &rough);
+        // Mitsuba's plastic and roughplastic, which ppm follows, estimate the coating's internal
+        // reflectance differently (a polynomial fit; a 64-point Riemann sum of the rough
+        // interface): their base lobes differ by 2.6% at eta 1.49 however small alpha is.
+        if name == "plastic" {
+            continue;
+        }
+        for (k, wo) in incident_directions().into_iter().enumerate() {
+            if wo.z.abs() < 0.05 {
+                continue;
+            }
+            let mut rng = Rng::new(seed(name), 6, k as u64);
+            let mut albedo = [[Stats::default(); 3]; 2];
+            for _ in 0..100_000 {
+                for (stats, bsdf) in albedo.iter_mut().zip([&rough, &smooth]) {
+                    let (u_lobe, u) = (rng.uniform(), rng.uniform2());
+                    let w = bsdf
+                        .sample(wo, u_lobe, u, IMPORTANCE)
+                        .map_or(Vec3::ZERO, |s| s.weight);
+                    for c in 0..3 {
+                        stats[c].push(w[c] as f64);
+                    }
+                }
+            }
+            for c in 0..3 {
+                let [a, b] = albedo.map(|s| s[c]);
+                let se = (a.std_error().powi(2) + b.std_error().powi(2)).sqrt();
+                assert!(
+                    a.mean() <= 1.0 + 5.0 * se + 1e-5 && (a.mean() - b.mean()).abs() <= 5.0 * se + 1e-3,
+                    "{name}: wo {wo}, channel {c}: albedo {:.5} at alpha 0.001 but {:.5} smooth \
+                     (+-{se:.1e})",
+                    a.mean(),
+                    b.mean()
+                );
+            }
+        }
+    }
 }
 
 /// The lobe decomposition of the delta models (the rest of their tests are in
@@ -507,6 +642,14 @@ fn delta_models_decompose_into_their_traced_part() {
     check_decomposition("mirror", &Bsdf::mirror(Vec3::new(0.9, 0.8, 0.7)));
     for ior in IORS {
         check_decomposition("glass", &Bsdf::glass(ior, Vec3::new(0.9, 0.8, 0.7)));
+    }
+    check_decomposition(
+        "conductor",
+        &Bsdf::conductor(Vec3::splat(0.2), Vec3::splat(3.0), Vec3::ONE, None),
+    );
+    for eta in [1.5, 1.33 / 1.5] {
+        check_decomposition("dielectric", &Bsdf::dielectric(eta, None));
+        check_decomposition("thin dielectric", &Bsdf::thin_dielectric(eta));
     }
     let black = Bsdf::phong(Vec3::ZERO, Vec3::ZERO, 10.0);
     assert!(black.flags().is_empty() && !black.is_delta());
