@@ -178,6 +178,17 @@ pub(crate) fn mitsuba_bsdf(
             let roughness = (kind == MaterialType::RoughPlastic)
                 .then(|| roughness(d, false, &err))
                 .transpose()?;
+            // The smooth coating's internal reflectance is a polynomial fit (Mitsuba's) that
+            // exceeds 1, creating energy, above a relative index of about 3.9.
+            if roughness.is_none() && !(eta > 1.0 && eta <= 3.0) {
+                return Err(err(
+                    "",
+                    format!(
+                        "int_ior / ext_ior is {eta}; a plastic's coating needs a relative index \
+                         in (1, 3]"
+                    ),
+                ));
+            }
             Bsdf::plastic(diffuse, white(&d.specular_reflectance), eta, roughness)
         }
         MaterialType::TwoSided => {

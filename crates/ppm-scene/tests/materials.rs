@@ -181,6 +181,10 @@ fn bad_parameters_name_the_field() {
         &["materials.white.bsdf", "refracts"],
     );
     has(
+        &error("{ type: plastic, int_ior: 4, ext_ior: 1 }"),
+        &["materials.white", "relative index in (1, 3]"],
+    );
+    has(
         &error("{ type: twosided }"),
         &["materials.white", "twosided material needs `bsdf`"],
     );

@@ -29,6 +29,10 @@ use glam::{Vec2, Vec3};
 ///     with the same `s` (Walter's eq. 21 is the radiance BSDF; the adjoint drops the
 ///     `1 / eta_w^2`).
 ///
+///   Computed in the equivalent form with the two sides' indices, `m ∝ eta_o wo + eta_i wi`
+///   and `eta_o^2` (radiance) or `eta_i^2` (importance) over `(eta_o wo . m + eta_i wi . m)^2`,
+///   which rounds the same when the arguments are swapped.
+///
 ///   `sample` draws a normal visible from `wo` (on `wo`'s side), then reflects with
 ///   probability F(wo . m) or refracts. Its density at `wi`: `D_wo(m)` times F or 1 - F times
 ///   the Jacobian `1 / (4 |wi . m|)` (reflection, eq. 14) or
