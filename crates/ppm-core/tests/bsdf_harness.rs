@@ -580,7 +580,11 @@ fn microfacet_models_at_alpha_0_001() {
     };
     let models = [
         ("conductor", gold(ggx), gold(None)),
-        ("dielectric", Bsdf::dielectric(1.5, ggx), Bsdf::dielectric(1.5, None)),
+        (
+            "dielectric",
+            Bsdf::dielectric(1.5, ggx),
+            Bsdf::dielectric(1.5, None),
+        ),
         (
             "water in glass",
             Bsdf::dielectric(1.33 / 1.5, ggx),
@@ -624,7 +628,8 @@ fn microfacet_models_at_alpha_0_001() {
                 let [a, b] = albedo.map(|s| s[c]);
                 let se = (a.std_error().powi(2) + b.std_error().powi(2)).sqrt();
                 assert!(
-                    a.mean() <= 1.0 + 5.0 * se + 1e-5 && (a.mean() - b.mean()).abs() <= 5.0 * se + 1e-3,
+                    a.mean() <= 1.0 + 5.0 * se + 1e-5
+                        && (a.mean() - b.mean()).abs() <= 5.0 * se + 1e-3,
                     "{name}: wo {wo}, channel {c}: albedo {:.5} at alpha 0.001 but {:.5} smooth \
                      (+-{se:.1e})",
                     a.mean(),
@@ -691,7 +696,9 @@ fn lossless_dielectrics_conserve_flux() {
         let mut albedo = Stats::default();
         for _ in 0..100_000 {
             let (u_lobe, u) = (rng.uniform(), rng.uniform2());
-            let w = rough.sample(wo, u_lobe, u, IMPORTANCE).map_or(0.0, |s| s.weight.x);
+            let w = rough
+                .sample(wo, u_lobe, u, IMPORTANCE)
+                .map_or(0.0, |s| s.weight.x);
             albedo.push(w as f64);
         }
         let (mean, se) = (albedo.mean(), albedo.std_error());

@@ -239,7 +239,9 @@ fn albedo_agrees_with_mitsuba() {
 /// The named conductors are Mitsuba's: at least the ten the documentation names most.
 #[test]
 fn named_metals_include_the_common_ones() {
-    for name in ["Au", "Ag", "Al", "Cu", "Cr", "Ni_palik", "W", "Hg", "Rh", "TiN", "none"] {
+    for name in [
+        "Au", "Ag", "Al", "Cu", "Cr", "Ni_palik", "W", "Hg", "Rh", "TiN", "none",
+    ] {
         let m = metal(name).unwrap_or_else(|| panic!("no metal {name}"));
         assert!(m.eta.is_finite() && m.k.is_finite() && m.k.min_element() >= 0.0);
     }

@@ -75,10 +75,7 @@ impl<'de> Deserialize<'de> for Ior {
             fn visit_str<E: de::Error>(self, s: &str) -> Result<Ior, E> {
                 named_ior(s).map(Ior).ok_or_else(|| {
                     let names: Vec<&str> = NAMED_IORS.iter().map(|(n, _)| *n).collect();
-                    E::custom(format!(
-                        "unknown medium `{s}`; known: {}",
-                        names.join(", ")
-                    ))
+                    E::custom(format!("unknown medium `{s}`; known: {}", names.join(", ")))
                 })
             }
         }

@@ -92,9 +92,10 @@ fn allowed(kind: MaterialType) -> &'static [&'static str] {
             ROUGH[3],
         ],
         MaterialType::TwoSided => &["bsdf", "emission"],
-        MaterialType::Diffuse | MaterialType::Mirror | MaterialType::Glass | MaterialType::Phong => {
-            &[]
-        }
+        MaterialType::Diffuse
+        | MaterialType::Mirror
+        | MaterialType::Glass
+        | MaterialType::Phong => &[],
     }
 }
 
@@ -151,8 +152,10 @@ pub(crate) fn mitsuba_bsdf(
         }
         MaterialType::Dielectric | MaterialType::RoughDielectric | MaterialType::ThinDielectric => {
             let eta = relative_index(d, "bk7", &err)?;
-            let (specular_reflectance, specular_transmittance) =
-                (white(&d.specular_reflectance), white(&d.specular_transmittance));
+            let (specular_reflectance, specular_transmittance) = (
+                white(&d.specular_reflectance),
+                white(&d.specular_transmittance),
+            );
             match kind {
                 MaterialType::ThinDielectric => Bsdf::ThinDielectric(ThinDielectric {
                     eta,
@@ -222,7 +225,10 @@ pub(crate) fn mitsuba_bsdf(
                 )
             })?
         }
-        MaterialType::Diffuse | MaterialType::Mirror | MaterialType::Glass | MaterialType::Phong => {
+        MaterialType::Diffuse
+        | MaterialType::Mirror
+        | MaterialType::Glass
+        | MaterialType::Phong => {
             unreachable!("handled above")
         }
     };
@@ -306,6 +312,8 @@ fn roughness(
             "",
             "roughplastic takes one `alpha`, no anisotropic roughness (as in Mitsuba)".into(),
         )),
-        (alpha, None, None) => Ok(Ggx::isotropic(alpha.as_ref().map_or(DEFAULT_ALPHA, |a| a.0))),
+        (alpha, None, None) => Ok(Ggx::isotropic(
+            alpha.as_ref().map_or(DEFAULT_ALPHA, |a| a.0),
+        )),
     }
 }

@@ -4,11 +4,11 @@
 //! than internally tagged enums: serde buffers tagged enums and loses the field path and line
 //! of errors inside them. Which fields a type takes is checked afterwards in `build.rs`.
 
+use crate::ior::Ior;
 use crate::values::{
     Alpha, Count, Depth, FieldOfView, GatherRadius, NonNegative, Num, Point, Positive, Reflectance,
     Resolution, Triple,
 };
-use crate::ior::Ior;
 use serde::de::{self, DeserializeSeed, Deserializer, MapAccess, Visitor};
 use serde::Deserialize;
 use std::fmt;

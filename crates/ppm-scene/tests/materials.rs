@@ -134,7 +134,12 @@ fn plastics_and_two_sided() {
 fn bad_parameters_name_the_field() {
     has(
         &error("{ type: conductor, material: Unobtainium }"),
-        &["materials.white.material", "unknown conductor `Unobtainium`", "Au", "Ag"],
+        &[
+            "materials.white.material",
+            "unknown conductor `Unobtainium`",
+            "Au",
+            "Ag",
+        ],
     );
     has(
         &error("{ type: conductor, material: Au, eta: [1, 1, 1] }"),
@@ -142,11 +147,18 @@ fn bad_parameters_name_the_field() {
     );
     has(
         &error("{ type: conductor, alpha: 0.1 }"),
-        &["materials.white", "`alpha` does not apply to a conductor material"],
+        &[
+            "materials.white",
+            "`alpha` does not apply to a conductor material",
+        ],
     );
     has(
         &error("{ type: roughconductor, distribution: beckmann }"),
-        &["materials.white.distribution", "`beckmann` is not supported", "ggx"],
+        &[
+            "materials.white.distribution",
+            "`beckmann` is not supported",
+            "ggx",
+        ],
     );
     has(
         &error("{ type: roughconductor, alpha_u: 0.1 }"),
@@ -166,15 +178,26 @@ fn bad_parameters_name_the_field() {
     );
     has(
         &error("{ type: dielectric, int_ior: unobtanium }"),
-        &["dir/m.yml:4:", "materials.white.int_ior", "unknown medium `unobtanium`", "water"],
+        &[
+            "dir/m.yml:4:",
+            "materials.white.int_ior",
+            "unknown medium `unobtanium`",
+            "water",
+        ],
     );
     has(
         &error("{ type: dielectric, int_ior: 0.5 }"),
-        &["materials.white.int_ior", "expected an index of refraction >= 1"],
+        &[
+            "materials.white.int_ior",
+            "expected an index of refraction >= 1",
+        ],
     );
     has(
         &error("{ type: plastic, diffuse_reflectance: [1.5, 0, 0] }"),
-        &["materials.white.diffuse_reflectance", "expected a reflectance in [0, 1]"],
+        &[
+            "materials.white.diffuse_reflectance",
+            "expected a reflectance in [0, 1]",
+        ],
     );
     has(
         &error("{ type: twosided, bsdf: { type: dielectric } }"),
@@ -190,11 +213,17 @@ fn bad_parameters_name_the_field() {
     );
     has(
         &error("{ type: twosided, bsdf: { type: plastic, emission: [1, 1, 1] } }"),
-        &["materials.white.bsdf", "`emission` belongs to the twosided material"],
+        &[
+            "materials.white.bsdf",
+            "`emission` belongs to the twosided material",
+        ],
     );
     has(
         &error("{ type: twosided, bsdf: { type: conductor, alpha: 0.2 } }"),
-        &["materials.white.bsdf", "`alpha` does not apply to a conductor"],
+        &[
+            "materials.white.bsdf",
+            "`alpha` does not apply to a conductor",
+        ],
     );
     has(
         &error("{ type: diffuse, color: [0.5, 0.5, 0.5], int_ior: 1.5 }"),

@@ -3,8 +3,8 @@
 
 use super::conductor::glossy_sample;
 use super::microfacet::Ggx;
-use super::{fresnel_dielectric, reflect, refract_about, BsdfFlags, BsdfSample, Lobe};
 use super::TransportMode;
+use super::{fresnel_dielectric, reflect, refract_about, BsdfFlags, BsdfSample, Lobe};
 use glam::{Vec2, Vec3};
 
 /// The interface between an exterior medium (the side `z > 0`) and an interior one (`z < 0`),

@@ -106,7 +106,10 @@ impl Complex {
         Complex { re, im }
     }
     fn square(self) -> Self {
-        Complex::new(self.re * self.re - self.im * self.im, 2.0 * self.re * self.im)
+        Complex::new(
+            self.re * self.re - self.im * self.im,
+            2.0 * self.re * self.im,
+        )
     }
     fn norm_sqr(self) -> f64 {
         self.re * self.re + self.im * self.im

@@ -236,7 +236,10 @@ mod tests {
             let scale = 4.0 * std::f64::consts::PI / n as f64;
             let (norm, visible) = (norm * scale, visible * scale);
             let tol = if ax < 0.2 { 0.05 } else { 0.01 };
-            assert!((norm - 1.0).abs() < tol, "{ax} {ay}: integral D cos = {norm}");
+            assert!(
+                (norm - 1.0).abs() < tol,
+                "{ax} {ay}: integral D cos = {norm}"
+            );
             assert!(
                 (visible - w.z as f64).abs() < tol * w.z as f64,
                 "{ax} {ay}: visible projected area {visible} != {}",

@@ -123,7 +123,12 @@ impl Bsdf {
     }
     /// A conductor of complex index `eta + i k`, smooth (`roughness` None) or GGX-rough,
     /// tinted by `specular_reflectance`.
-    pub fn conductor(eta: Vec3, k: Vec3, specular_reflectance: Vec3, roughness: Option<Ggx>) -> Self {
+    pub fn conductor(
+        eta: Vec3,
+        k: Vec3,
+        specular_reflectance: Vec3,
+        roughness: Option<Ggx>,
+    ) -> Self {
         Bsdf::Conductor(Conductor {
             eta,
             k,

@@ -2,8 +2,8 @@
 
 use super::conductor::{glossy_sample, reflection_pdf};
 use super::microfacet::{rough_dielectric_albedo, Ggx};
-use super::{fresnel_dielectric, fresnel_diffuse_reflectance, reflect, BsdfFlags, BsdfSample};
 use super::Lobe;
+use super::{fresnel_dielectric, fresnel_diffuse_reflectance, reflect, BsdfFlags, BsdfSample};
 use crate::sampling::cosine_hemisphere;
 use glam::{Vec2, Vec3};
 use std::f32::consts::FRAC_1_PI;
@@ -227,11 +227,7 @@ impl Plastic {
 fn rough_coating_tables(ggx: &Ggx, eta: f32) -> (f32, &'static [f32; TABLE_SIZE]) {
     type Key = (u32, u32, u32);
     static CACHE: Mutex<Vec<(Key, f32, &'static [f32; TABLE_SIZE])>> = Mutex::new(Vec::new());
-    let key = (
-        ggx.alpha_x.to_bits(),
-        ggx.alpha_y.to_bits(),
-        eta.to_bits(),
-    );
+    let key = (ggx.alpha_x.to_bits(), ggx.alpha_y.to_bits(), eta.to_bits());
     let mut cache = CACHE.lock().unwrap_or_else(|e| e.into_inner());
     if let Some(&(_, f_int, table)) = cache.iter().find(|(k, _, _)| *k == key) {
         return (f_int, table);

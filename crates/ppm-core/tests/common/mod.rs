@@ -291,7 +291,12 @@ pub fn chi2_directions(
     let (mut mass, mut collision_expected) = (0.0, 0.0);
     for i in 0..nt {
         for j in 0..np {
-            let cell = [i as f64 * dt, (i + 1) as f64 * dt, j as f64 * dp, (j + 1) as f64 * dp];
+            let cell = [
+                i as f64 * dt,
+                (i + 1) as f64 * dt,
+                j as f64 * dp,
+                (j + 1) as f64 * dp,
+            ];
             let (integral, integral_sq) = if i + 1 == nt / 2 || i == nt / 2 {
                 horizon_cell_integrals(&pdf, &rule, cell)
             } else {
@@ -309,7 +314,12 @@ pub fn chi2_directions(
     for c in 0..nt * np {
         if expected[c] == 0.0 && witness[c].is_some_and(|w| pdf(w) > 0.0) {
             let (i, j) = (c / np, c % np);
-            let cell = [i as f64 * dt, (i + 1) as f64 * dt, j as f64 * dp, (j + 1) as f64 * dp];
+            let cell = [
+                i as f64 * dt,
+                (i + 1) as f64 * dt,
+                j as f64 * dp,
+                (j + 1) as f64 * dp,
+            ];
             let (integral, integral_sq) = subdivided_cell_integrals(&pdf, &rule, cell, 32);
             mass += integral;
             collision_expected += integral_sq;
