@@ -222,9 +222,9 @@ fn albedo_agrees_with_mitsuba() {
                 stats[c].push(w[c] as f64);
             }
         }
-        for c in 0..3 {
-            let ours = stats[c].mean();
-            let se = (stats[c].std_error().powi(2) + (r.se[c] as f64).powi(2)).sqrt();
+        for (c, stats) in stats.iter().enumerate() {
+            let ours = stats.mean();
+            let se = (stats.std_error().powi(2) + (r.se[c] as f64).powi(2)).sqrt();
             let theirs = r.value[c] as f64;
             assert!(
                 (ours - theirs).abs() <= 5.0 * se + 1e-3,

@@ -125,7 +125,7 @@ pub(super) fn reflection_pdf(ggx: &Ggx, wo: Vec3, wi: Vec3) -> f32 {
 /// `None` where the pdf is zero (below the horizon, or outside the support by rounding).
 #[inline]
 pub(super) fn glossy_sample(wi: Vec3, pdf: f32, f: Vec3) -> Option<BsdfSample> {
-    if !(pdf > 0.0 && pdf.is_finite()) || !wi.is_finite() {
+    if !(pdf > 0.0 && pdf.is_finite() && wi.is_finite()) {
         return None;
     }
     let weight = f * wi.z.abs() / pdf;

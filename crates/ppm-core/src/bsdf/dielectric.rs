@@ -119,7 +119,8 @@ impl Dielectric {
         let m = wo * eta_o + wi * eta_i;
         let m = m * m.z.signum();
         let len = m.length();
-        if !(len > 0.0) || !len.is_finite() {
+        // len is NaN for a NaN input: neither test passes it.
+        if len.is_nan() || len <= 0.0 || !len.is_finite() {
             return None;
         }
         let m = m / len;

@@ -357,7 +357,7 @@ pub fn reflect(w: Vec3) -> Vec3 {
 #[inline]
 pub fn refract_about(w: Vec3, n: Vec3, eta: f32) -> Option<Vec3> {
     let cos_w = w.dot(n);
-    if !(cos_w > 0.0) {
+    if cos_w.is_nan() || cos_w <= 0.0 {
         return None;
     }
     let sin2_t = (1.0 - cos_w * cos_w).max(0.0) / (eta * eta);
