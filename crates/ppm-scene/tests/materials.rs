@@ -8,7 +8,7 @@ use common::VALID;
 use glam::Vec3;
 use ppm_core::bsdf::metals::metal;
 use ppm_core::bsdf::{Bsdf, Ggx};
-use ppm_scene::parse_scene;
+use ppm_scene::{content_hash, parse_scene};
 use std::path::Path;
 
 /// VALID with the floor's material replaced by `material` (a YAML flow map).
@@ -229,4 +229,40 @@ fn bad_parameters_name_the_field() {
         &error("{ type: diffuse, color: [0.5, 0.5, 0.5], int_ior: 1.5 }"),
         &["`int_ior` does not apply to a diffuse material"],
     );
+}
+
+/// The scene fingerprint (what `--resume` and `ppm merge` check) tells the new materials and
+/// their parameters apart.
+#[test]
+fn the_fingerprint_sees_every_parameter() {
+    let hash = |m: &str| {
+        let (b, _) = parse_scene(&scene_with(m), Path::new("dir/m.yml")).unwrap();
+        content_hash(&b)
+    };
+    let materials = [
+        "{ type: conductor, material: Au }",
+        "{ type: conductor, material: Cu }",
+        "{ type: roughconductor, material: Au, alpha: 0.2 }",
+        "{ type: roughconductor, material: Au, alpha: 0.3 }",
+        "{ type: roughconductor, material: Au, alpha_u: 0.2, alpha_v: 0.3 }",
+        "{ type: twosided, bsdf: { type: roughconductor, material: Au, alpha: 0.2 } }",
+        "{ type: dielectric }",
+        "{ type: dielectric, specular_transmittance: [0.9, 0.9, 0.9] }",
+        "{ type: roughdielectric }",
+        "{ type: thindielectric }",
+        "{ type: plastic }",
+        "{ type: plastic, diffuse_reflectance: [0.4, 0.5, 0.5] }",
+        "{ type: roughplastic }",
+        "{ type: twosided, bsdf: { type: plastic } }",
+    ];
+    let hashes: Vec<u64> = materials.iter().map(|m| hash(m)).collect();
+    for i in 0..hashes.len() {
+        for j in 0..i {
+            assert_ne!(
+                hashes[i], hashes[j],
+                "{} and {}",
+                materials[i], materials[j]
+            );
+        }
+    }
 }
