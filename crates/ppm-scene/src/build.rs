@@ -2,6 +2,7 @@
 //! fields a type takes, material names, camera geometry) and the mapping to ppm-core types.
 
 use crate::error::LoadError;
+use crate::materials;
 use crate::obj::{self, ObjMaterials};
 use crate::yaml::{
     LightDesc, LightType, MaterialDesc, MaterialType, ObjectDesc, ObjectType, SceneFile,
@@ -366,36 +367,45 @@ fn material(
     warnings: &mut Vec<String>,
 ) -> Result<Material, LoadError> {
     let field = format!("materials.{name}");
-    let present = [
-        ("color", d.color.is_some()),
-        ("emission", d.emission.is_some()),
-        ("ior", d.ior.is_some()),
-        ("diffuse", d.diffuse.is_some()),
-        ("specular", d.specular.is_some()),
-        ("exponent", d.exponent.is_some()),
-    ];
-    let (type_name, allowed): (&str, &[&str]) = match d.kind {
-        MaterialType::Diffuse => ("diffuse", &["color", "emission"]),
-        MaterialType::Mirror => ("mirror", &["color", "emission"]),
-        MaterialType::Glass => ("glass", &["ior", "color", "emission"]),
-        MaterialType::Phong => ("phong", &["diffuse", "specular", "exponent", "emission"]),
+    let bsdf = match materials::mitsuba_bsdf(d, &field, path)? {
+        Some(bsdf) => bsdf,
+        None => classic_bsdf(d, &field, path, warnings)?,
+    };
+    let emission = d.emission.as_ref().map_or(Vec3::ZERO, |e| e.value());
+    Ok(Material::new(bsdf, emission).named(name))
+}
+
+/// The BSDF of one of the original material types (diffuse, mirror, glass, phong).
+pub(crate) fn classic_bsdf(
+    d: &MaterialDesc,
+    field: &str,
+    path: &Path,
+    warnings: &mut Vec<String>,
+) -> Result<Bsdf, LoadError> {
+    let type_name = materials::type_name(d.kind);
+    let allowed: &[&str] = match d.kind {
+        MaterialType::Diffuse => &["color", "emission"],
+        MaterialType::Mirror => &["color", "emission"],
+        MaterialType::Glass => &["ior", "color", "emission"],
+        MaterialType::Phong => &["diffuse", "specular", "exponent", "emission"],
+        _ => unreachable!("the Mitsuba-style types are built in materials.rs"),
     };
     check_fields(
         path,
-        &field,
+        field,
         &format!("{type_name} material"),
-        &present,
+        &materials::present_fields(d),
         allowed,
     )?;
     let need = |what: &str| {
         LoadError::invalid(
             path,
-            &field,
+            field,
             format!("a {type_name} material needs `{what}`"),
         )
     };
     let color = d.color.as_ref().map(|c| c.value());
-    let bsdf = match d.kind {
+    Ok(match d.kind {
         MaterialType::Diffuse => Bsdf::diffuse(color.ok_or_else(|| need("color"))?),
         MaterialType::Mirror => Bsdf::mirror(color.unwrap_or(Vec3::ONE)),
         MaterialType::Glass => Bsdf::glass(
@@ -427,9 +437,8 @@ fn material(
             }
             Bsdf::phong(kd, ks, n)
         }
-    };
-    let emission = d.emission.as_ref().map_or(Vec3::ZERO, |e| e.value());
-    Ok(Material::new(bsdf, emission).named(name))
+        _ => unreachable!("the Mitsuba-style types are built in materials.rs"),
+    })
 }
 
 fn object_type_name(kind: ObjectType) -> &'static str {
@@ -462,7 +471,7 @@ fn allowed_object_fields(kind: ObjectType) -> &'static [&'static str] {
 }
 
 /// Fails on the first present field that `what` does not take.
-fn check_fields(
+pub(crate) fn check_fields(
     path: &Path,
     field: &str,
     what: &str,

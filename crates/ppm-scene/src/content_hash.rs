@@ -17,7 +17,10 @@
 //! (a part of another scene), which is what it is used for.
 
 use glam::Vec3;
-use ppm_core::bsdf::{Bsdf, Diffuse, Glass, Mirror, Phong};
+use ppm_core::bsdf::{
+    Bsdf, Conductor, Dielectric, Diffuse, Ggx, Glass, Mirror, Phong, Plastic, ThinDielectric,
+    TwoSided,
+};
 use ppm_core::camera::Camera;
 use ppm_core::geometry::{Sphere, TriangleMesh};
 use ppm_core::integrator::Algorithm;
@@ -207,6 +210,78 @@ impl Fingerprint {
                     .field("diffuse", |f| f.vec3(*diffuse))
                     .field("specular", |f| f.vec3(*specular))
                     .field("exponent", |f| f.f32(*exponent))
+                    .end()
+            }),
+            Bsdf::Conductor(c) => self.variant("Conductor", |f| f.conductor(c)),
+            Bsdf::Dielectric(Dielectric {
+                eta,
+                specular_reflectance,
+                specular_transmittance,
+                roughness,
+            }) => self.variant("Dielectric", |f| {
+                f.record("Dielectric")
+                    .field("eta", |f| f.f32(*eta))
+                    .field("specular_reflectance", |f| f.vec3(*specular_reflectance))
+                    .field("specular_transmittance", |f| {
+                        f.vec3(*specular_transmittance)
+                    })
+                    .field("roughness", |f| f.roughness(roughness))
+                    .end()
+            }),
+            Bsdf::ThinDielectric(ThinDielectric {
+                eta,
+                specular_reflectance,
+                specular_transmittance,
+            }) => self.variant("ThinDielectric", |f| {
+                f.record("ThinDielectric")
+                    .field("eta", |f| f.f32(*eta))
+                    .field("specular_reflectance", |f| f.vec3(*specular_reflectance))
+                    .field("specular_transmittance", |f| {
+                        f.vec3(*specular_transmittance)
+                    })
+                    .end()
+            }),
+            Bsdf::Plastic(p) => self.variant("Plastic", |f| f.plastic(p)),
+            Bsdf::TwoSidedConductor(TwoSided(c)) => {
+                self.variant("TwoSidedConductor", |f| f.conductor(c))
+            }
+            Bsdf::TwoSidedPlastic(TwoSided(p)) => self.variant("TwoSidedPlastic", |f| f.plastic(p)),
+        }
+    }
+
+    fn conductor(&mut self, c: &Conductor) {
+        let Conductor {
+            eta,
+            k,
+            specular_reflectance,
+            roughness,
+        } = c;
+        self.record("Conductor")
+            .field("eta", |f| f.vec3(*eta))
+            .field("k", |f| f.vec3(*k))
+            .field("specular_reflectance", |f| f.vec3(*specular_reflectance))
+            .field("roughness", |f| f.roughness(roughness))
+            .end();
+    }
+
+    /// A plastic by its parameters (the rest of its fields are computed from them).
+    fn plastic(&mut self, p: &Plastic) {
+        self.record("Plastic")
+            .field("diffuse_reflectance", |f| f.vec3(p.diffuse_reflectance))
+            .field("specular_reflectance", |f| f.vec3(p.specular_reflectance))
+            .field("eta", |f| f.f32(p.eta))
+            .field("roughness", |f| f.roughness(&p.roughness))
+            .end();
+    }
+
+    /// `None` or `Some(Ggx { alpha_x: .., alpha_y: .. })`.
+    fn roughness(&mut self, r: &Option<Ggx>) {
+        match r {
+            None => self.text("None"),
+            Some(Ggx { alpha_x, alpha_y }) => self.variant("Some", |f| {
+                f.record("Ggx")
+                    .field("alpha_x", |f| f.f32(*alpha_x))
+                    .field("alpha_y", |f| f.f32(*alpha_y))
                     .end()
             }),
         }

@@ -21,8 +21,10 @@
 mod build;
 mod content_hash;
 mod error;
+pub mod ior;
 mod light_area;
 mod light_placement;
+mod materials;
 pub mod mitsuba;
 pub mod mtl;
 mod nesting;

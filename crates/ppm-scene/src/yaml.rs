@@ -4,6 +4,7 @@
 //! than internally tagged enums: serde buffers tagged enums and loses the field path and line
 //! of errors inside them. Which fields a type takes is checked afterwards in `build.rs`.
 
+use crate::ior::Ior;
 use crate::values::{
     Alpha, Count, Depth, FieldOfView, GatherRadius, NonNegative, Num, Point, Positive, Reflectance,
     Resolution, Triple,
@@ -47,6 +48,14 @@ pub enum MaterialType {
     Mirror,
     Glass,
     Phong,
+    Conductor,
+    RoughConductor,
+    Dielectric,
+    RoughDielectric,
+    ThinDielectric,
+    Plastic,
+    RoughPlastic,
+    TwoSided,
 }
 
 /// One material; which fields apply depends on `type`.
@@ -61,6 +70,21 @@ pub struct MaterialDesc {
     pub diffuse: Option<Triple<Reflectance>>,
     pub specular: Option<Triple<Reflectance>>,
     pub exponent: Option<Num<NonNegative>>,
+    // The Mitsuba-style materials (conductor ... twosided), with Mitsuba's parameter names.
+    pub alpha: Option<Num<NonNegative>>,
+    pub alpha_u: Option<Num<NonNegative>>,
+    pub alpha_v: Option<Num<NonNegative>>,
+    pub distribution: Option<String>,
+    pub int_ior: Option<Ior>,
+    pub ext_ior: Option<Ior>,
+    pub eta: Option<Triple<NonNegative>>,
+    pub k: Option<Triple<NonNegative>>,
+    pub material: Option<String>,
+    pub specular_reflectance: Option<Triple<Reflectance>>,
+    pub specular_transmittance: Option<Triple<Reflectance>>,
+    pub diffuse_reflectance: Option<Triple<Reflectance>>,
+    /// The material a `twosided` shows on both sides.
+    pub bsdf: Option<Box<MaterialDesc>>,
 }
 
 /// The object types.

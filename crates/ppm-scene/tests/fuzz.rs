@@ -47,6 +47,12 @@ fn check_material(m: &Material) {
             );
             assert!(p.exponent.is_finite() && p.exponent >= 0.0, "{m:?}");
         }
+        Bsdf::Conductor(_)
+        | Bsdf::Dielectric(_)
+        | Bsdf::ThinDielectric(_)
+        | Bsdf::Plastic(_)
+        | Bsdf::TwoSidedConductor(_)
+        | Bsdf::TwoSidedPlastic(_) => panic!("the fuzzer writes no such material: {m:?}"),
     }
 }
 

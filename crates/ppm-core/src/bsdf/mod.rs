@@ -21,21 +21,41 @@
 //!   `eval = diffuse.eval + non_diffuse.eval`. Integrators ask these and never name a model.
 //! - diffuse, phong and mirror are two-sided: with `wo.z < 0` they act as if the surface were
 //!   flipped, so camera and light paths agree for any pair of directions. glass is one-sided
-//!   in the sense that `wo.z > 0` means outside (entering the medium of `ior`).
+//!   in the sense that `wo.z > 0` means outside (entering the medium of `ior`), and so is
+//!   dielectric (`z > 0` is the exterior medium). conductor and plastic reflect on the front
+//!   side only (`wo.z > 0`) and are black from behind, as in Mitsuba 3; [`TwoSided`] makes them
+//!   two-sided. thindielectric is two-sided.
+//! - Microfacet lobes (rough conductor, dielectric, plastic) and plastic's base seen through
+//!   its coating are [`Lobe::Glossy`]: not Lambertian, so traced rather than density-estimated.
+//!   A model may mix delta and non-delta lobes (smooth plastic): `eval` and `pdf` are those of
+//!   the non-delta lobes, the pdf scaled by the probability of choosing them.
 
+mod conductor;
+mod dielectric;
 mod diffuse;
 mod flags;
 mod fresnel;
 mod glass;
+pub mod metals;
+pub mod microfacet;
 mod mirror;
 mod phong;
+mod plastic;
+mod thin_dielectric;
+mod twosided;
 
+pub use conductor::Conductor;
+pub use dielectric::Dielectric;
 pub use diffuse::Diffuse;
 pub use flags::BsdfFlags;
-pub use fresnel::fresnel_dielectric;
+pub use fresnel::{fresnel_conductor, fresnel_dielectric, fresnel_diffuse_reflectance};
 pub use glass::Glass;
+pub use microfacet::Ggx;
 pub use mirror::Mirror;
 pub use phong::Phong;
+pub use plastic::Plastic;
+pub use thin_dielectric::ThinDielectric;
+pub use twosided::{FrontSided, TwoSided};
 
 use glam::{Vec2, Vec3};
 
@@ -76,6 +96,12 @@ pub enum Bsdf {
     Mirror(Mirror),
     Glass(Glass),
     Phong(Phong),
+    Conductor(Conductor),
+    Dielectric(Dielectric),
+    ThinDielectric(ThinDielectric),
+    Plastic(Plastic),
+    TwoSidedConductor(TwoSided<Conductor>),
+    TwoSidedPlastic(TwoSided<Plastic>),
 }
 
 impl Bsdf {
@@ -95,17 +121,74 @@ impl Bsdf {
     pub fn phong(diffuse: Vec3, specular: Vec3, exponent: f32) -> Self {
         Bsdf::Phong(Phong::new(diffuse, specular, exponent))
     }
+    /// A conductor of complex index `eta + i k`, smooth (`roughness` None) or GGX-rough,
+    /// tinted by `specular_reflectance`.
+    pub fn conductor(
+        eta: Vec3,
+        k: Vec3,
+        specular_reflectance: Vec3,
+        roughness: Option<Ggx>,
+    ) -> Self {
+        Bsdf::Conductor(Conductor {
+            eta,
+            k,
+            specular_reflectance,
+            roughness,
+        })
+    }
+    /// A dielectric interface of relative index `eta = int_ior / ext_ior`, smooth or rough,
+    /// with untinted reflection and transmission.
+    pub fn dielectric(eta: f32, roughness: Option<Ggx>) -> Self {
+        Bsdf::Dielectric(Dielectric {
+            eta,
+            specular_reflectance: Vec3::ONE,
+            specular_transmittance: Vec3::ONE,
+            roughness,
+        })
+    }
+    /// A thin dielectric sheet of relative index `eta`, untinted.
+    pub fn thin_dielectric(eta: f32) -> Self {
+        Bsdf::ThinDielectric(ThinDielectric {
+            eta,
+            specular_reflectance: Vec3::ONE,
+            specular_transmittance: Vec3::ONE,
+        })
+    }
+    /// A plastic: a Lambertian base of albedo `diffuse` under a coating of relative index
+    /// `eta` whose reflection is tinted by `specular`; smooth or rough.
+    pub fn plastic(diffuse: Vec3, specular: Vec3, eta: f32, roughness: Option<Ggx>) -> Self {
+        Bsdf::Plastic(Plastic::new(diffuse, specular, eta, roughness))
+    }
+    /// The same BSDF seen from both sides: conductor and plastic wrapped in [`TwoSided`];
+    /// the models that are already two-sided (diffuse, mirror, phong, thin dielectric)
+    /// unchanged. `None` for the refracting ones (glass, dielectric), whose two sides are
+    /// two different media.
+    pub fn two_sided(self) -> Option<Self> {
+        match self {
+            Bsdf::Conductor(b) => Some(Bsdf::TwoSidedConductor(TwoSided(b))),
+            Bsdf::Plastic(b) => Some(Bsdf::TwoSidedPlastic(TwoSided(b))),
+            Bsdf::Diffuse(_)
+            | Bsdf::Mirror(_)
+            | Bsdf::Phong(_)
+            | Bsdf::ThinDielectric(_)
+            | Bsdf::TwoSidedConductor(_)
+            | Bsdf::TwoSidedPlastic(_) => Some(self),
+            Bsdf::Glass(_) | Bsdf::Dielectric(_) => None,
+        }
+    }
 
     /// f(wo, wi), without the cosine; zero for delta lobes.
     #[inline]
     pub fn eval(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> Vec3 {
         match self {
             Bsdf::Diffuse(b) => b.eval(wo, wi),
-            Bsdf::Mirror(_) | Bsdf::Glass(_) => {
-                let _ = mode;
-                Vec3::ZERO
-            }
+            Bsdf::Mirror(_) | Bsdf::Glass(_) | Bsdf::ThinDielectric(_) => Vec3::ZERO,
             Bsdf::Phong(b) => b.eval(wo, wi),
+            Bsdf::Conductor(b) => b.eval(wo, wi),
+            Bsdf::Dielectric(b) => b.eval(wo, wi, mode),
+            Bsdf::Plastic(b) => b.eval(wo, wi),
+            Bsdf::TwoSidedConductor(b) => b.eval(wo, wi),
+            Bsdf::TwoSidedPlastic(b) => b.eval(wo, wi),
         }
     }
 
@@ -114,8 +197,13 @@ impl Bsdf {
     pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
         match self {
             Bsdf::Diffuse(b) => b.pdf(wo, wi),
-            Bsdf::Mirror(_) | Bsdf::Glass(_) => 0.0,
+            Bsdf::Mirror(_) | Bsdf::Glass(_) | Bsdf::ThinDielectric(_) => 0.0,
             Bsdf::Phong(b) => b.pdf(wo, wi),
+            Bsdf::Conductor(b) => b.pdf(wo, wi),
+            Bsdf::Dielectric(b) => b.pdf(wo, wi),
+            Bsdf::Plastic(b) => b.pdf(wo, wi),
+            Bsdf::TwoSidedConductor(b) => b.pdf(wo, wi),
+            Bsdf::TwoSidedPlastic(b) => b.pdf(wo, wi),
         }
     }
 
@@ -136,6 +224,12 @@ impl Bsdf {
             Bsdf::Mirror(b) => b.sample(wo),
             Bsdf::Glass(b) => b.sample(wo, u_lobe, mode),
             Bsdf::Phong(b) => b.sample(wo, u_lobe, u),
+            Bsdf::Conductor(b) => b.sample(wo, u),
+            Bsdf::Dielectric(b) => b.sample(wo, u_lobe, u, mode),
+            Bsdf::ThinDielectric(b) => b.sample(wo, u_lobe),
+            Bsdf::Plastic(b) => b.sample(wo, u_lobe, u),
+            Bsdf::TwoSidedConductor(b) => b.sample(wo, u_lobe, u),
+            Bsdf::TwoSidedPlastic(b) => b.sample(wo, u_lobe, u),
         }
     }
 
@@ -148,6 +242,12 @@ impl Bsdf {
             Bsdf::Mirror(b) => b.flags(),
             Bsdf::Glass(b) => b.flags(),
             Bsdf::Phong(b) => b.flags(),
+            Bsdf::Conductor(b) => b.flags(),
+            Bsdf::Dielectric(b) => b.flags(),
+            Bsdf::ThinDielectric(b) => b.flags(),
+            Bsdf::Plastic(b) => b.flags(),
+            Bsdf::TwoSidedConductor(b) => b.flags(),
+            Bsdf::TwoSidedPlastic(b) => b.flags(),
         }
     }
 
@@ -160,6 +260,13 @@ impl Bsdf {
             Bsdf::Diffuse(b) => Some(*b),
             Bsdf::Mirror(_) | Bsdf::Glass(_) => None,
             Bsdf::Phong(b) => b.diffuse_part(),
+            // No Lambertian lobe: plastic's base is seen through its coating (glossy).
+            Bsdf::Conductor(_)
+            | Bsdf::Dielectric(_)
+            | Bsdf::ThinDielectric(_)
+            | Bsdf::Plastic(_)
+            | Bsdf::TwoSidedConductor(_)
+            | Bsdf::TwoSidedPlastic(_) => None,
         }
     }
 
@@ -172,6 +279,12 @@ impl Bsdf {
             Bsdf::Diffuse(_) => None,
             Bsdf::Mirror(_) | Bsdf::Glass(_) => Some(*self),
             Bsdf::Phong(b) => b.glossy_part().map(Bsdf::Phong),
+            Bsdf::Conductor(_)
+            | Bsdf::Dielectric(_)
+            | Bsdf::ThinDielectric(_)
+            | Bsdf::Plastic(_)
+            | Bsdf::TwoSidedConductor(_)
+            | Bsdf::TwoSidedPlastic(_) => (!self.flags().is_empty()).then_some(*self),
         }
     }
 
@@ -185,6 +298,12 @@ impl Bsdf {
             Bsdf::Diffuse(_) => 1.0,
             Bsdf::Mirror(_) | Bsdf::Glass(_) => 0.0,
             Bsdf::Phong(b) => 1.0 - b.glossy_probability(),
+            Bsdf::Conductor(_)
+            | Bsdf::Dielectric(_)
+            | Bsdf::ThinDielectric(_)
+            | Bsdf::Plastic(_)
+            | Bsdf::TwoSidedConductor(_)
+            | Bsdf::TwoSidedPlastic(_) => 0.0,
         }
     }
 
@@ -228,6 +347,25 @@ pub fn shading_normal_correction(
 #[inline]
 pub fn reflect(w: Vec3) -> Vec3 {
     Vec3::new(-w.x, -w.y, w.z)
+}
+
+/// Refracts `w` (pointing away from the surface) through an interface of normal `n` on `w`'s
+/// side (`w . n > 0`), into the other side; `eta` is the index of the other side over `w`'s.
+/// `None` on total internal reflection or if `w` is behind `n`.
+///
+/// Snell's law, sin_t = sin_w / eta: `wt = -w / eta + (cos_w / eta - cos_t) n`.
+#[inline]
+pub fn refract_about(w: Vec3, n: Vec3, eta: f32) -> Option<Vec3> {
+    let cos_w = w.dot(n);
+    if cos_w.is_nan() || cos_w <= 0.0 {
+        return None;
+    }
+    let sin2_t = (1.0 - cos_w * cos_w).max(0.0) / (eta * eta);
+    if sin2_t >= 1.0 {
+        return None;
+    }
+    let cos_t = (1.0 - sin2_t).sqrt();
+    Some(-w / eta + (cos_w / eta - cos_t) * n)
 }
 
 /// Luminance of linear sRGB (Rec. 709 weights), used for lobe selection and Russian roulette.

@@ -130,11 +130,121 @@ pub const PHI_BINS: usize = 2 * THETA_BINS;
 /// Cells whose expected count is below this are pooled into one cell (the usual rule of five).
 pub const MIN_EXPECTED: f64 = 5.0;
 
+/// How many times a cell's quadrature may be halved in each direction (see [`cell_integrals`]).
+const CELL_DEPTH: u32 = 5;
+
+/// Integrals of `pdf` and `pdf^2` over the cell [theta0, theta1] x [phi0, phi1] of the sphere,
+/// `pdf(w) sin(theta) dtheta dphi`, by 6 x 6 Gauss-Legendre points, adaptively: the cell's
+/// rule is compared with the sum over its four quarters, and where they differ by more than
+/// 1e-9 (absolute, a thousandth of a sample in a million) the quarters are refined in turn,
+/// at most `depth` times. A lobe narrower than a cell (a microfacet lobe reflected at a
+/// grazing angle is a sliver along the horizon) is then still integrated to the accuracy the
+/// expected counts need.
+fn cell_integrals(
+    pdf: &impl Fn(Vec3) -> f64,
+    rule: &[(f64, f64)],
+    cell: [f64; 4],
+    depth: u32,
+) -> (f64, f64) {
+    let whole = cell_rule(pdf, rule, cell);
+    if depth == 0 {
+        return whole;
+    }
+    let [t0, t1, p0, p1] = cell;
+    let (tm, pm) = (0.5 * (t0 + t1), 0.5 * (p0 + p1));
+    let quarters = [
+        [t0, tm, p0, pm],
+        [t0, tm, pm, p1],
+        [tm, t1, p0, pm],
+        [tm, t1, pm, p1],
+    ];
+    let parts = quarters.map(|q| cell_rule(pdf, rule, q));
+    let sum = parts
+        .iter()
+        .fold((0.0, 0.0), |acc, p| (acc.0 + p.0, acc.1 + p.1));
+    if (sum.0 - whole.0).abs() <= 1e-9 {
+        return sum;
+    }
+    quarters
+        .iter()
+        .map(|&q| cell_integrals(pdf, rule, q, depth - 1))
+        .fold((0.0, 0.0), |acc, p| (acc.0 + p.0, acc.1 + p.1))
+}
+
+/// Slices of a cell along the horizon (see [`horizon_cell_integrals`]).
+const HORIZON_SLICES: usize = 16;
+
+/// The integrals of [`cell_integrals`] for a cell bordering the horizon, cut into
+/// [`HORIZON_SLICES`] slices in theta, each integrated adaptively. A direction at a grazing
+/// angle makes features as thin as its angle to the horizon there: a rough dielectric seen at
+/// 89.9 degrees refracts through microfacets up to the edge of the upper hemisphere, and its
+/// pdf drops to zero 0.04 degrees below the horizon. No rule on the whole cell, nor on its
+/// quarters, has a point in that band, so comparing them cannot see it; the first slice's
+/// rule has (its first point is 0.008 degrees from the edge).
+fn horizon_cell_integrals(
+    pdf: &impl Fn(Vec3) -> f64,
+    rule: &[(f64, f64)],
+    cell: [f64; 4],
+) -> (f64, f64) {
+    let [t0, t1, p0, p1] = cell;
+    let dt = (t1 - t0) / HORIZON_SLICES as f64;
+    (0..HORIZON_SLICES)
+        .map(|k| {
+            let a = t0 + k as f64 * dt;
+            cell_integrals(pdf, rule, [a, a + dt, p0, p1], CELL_DEPTH)
+        })
+        .fold((0.0, 0.0), |acc, p| (acc.0 + p.0, acc.1 + p.1))
+}
+
+/// The rule applied on each of `k x k` equal sub-cells of `cell`.
+fn subdivided_cell_integrals(
+    pdf: &impl Fn(Vec3) -> f64,
+    rule: &[(f64, f64)],
+    cell: [f64; 4],
+    k: usize,
+) -> (f64, f64) {
+    let [t0, t1, p0, p1] = cell;
+    let (dt, dp) = ((t1 - t0) / k as f64, (p1 - p0) / k as f64);
+    let mut sum = (0.0, 0.0);
+    for a in 0..k {
+        for b in 0..k {
+            let (t, p) = (t0 + a as f64 * dt, p0 + b as f64 * dp);
+            let r = cell_rule(pdf, rule, [t, t + dt, p, p + dp]);
+            sum = (sum.0 + r.0, sum.1 + r.1);
+        }
+    }
+    sum
+}
+
+/// One application of the product Gauss-Legendre rule to a cell (no refinement).
+fn cell_rule(pdf: &impl Fn(Vec3) -> f64, rule: &[(f64, f64)], cell: [f64; 4]) -> (f64, f64) {
+    let [t0, t1, p0, p1] = cell;
+    let (dt, dp) = (t1 - t0, p1 - p0);
+    let (mut integral, mut integral_sq) = (0.0, 0.0);
+    for &(xt, wt) in rule {
+        let theta = t0 + 0.5 * (xt + 1.0) * dt;
+        let (sin_t, cos_t) = theta.sin_cos();
+        for &(xp, wp) in rule {
+            let phi = p0 + 0.5 * (xp + 1.0) * dp;
+            let w = Vec3::new(
+                (sin_t * phi.cos()) as f32,
+                (sin_t * phi.sin()) as f32,
+                cos_t as f32,
+            );
+            let p = pdf(w);
+            integral += wt * wp * p * sin_t;
+            integral_sq += wt * wp * p * p * sin_t;
+        }
+    }
+    (integral * 0.25 * dt * dp, integral_sq * 0.25 * dt * dp)
+}
+
 /// Pearson's chi-square test of a direction sampler against the density it claims.
 ///
 /// `sample` is called `n` times (returning `None` for a lost sample); the sphere is cut into
 /// a (theta, phi) grid and each cell's expected count is `n` times the integral of `pdf` over
-/// it, `pdf(w) sin(theta) dtheta dphi`, by 6 x 6 Gauss-Legendre points (never on cell edges).
+/// it, `pdf(w) sin(theta) dtheta dphi`, by adaptive 6 x 6 Gauss-Legendre points (never on cell
+/// edges; [`cell_integrals`]).
 /// "No sample" is one more cell, expected `n (1 - integral of pdf)` (at least `1e-6 n`).
 /// Cells expecting fewer than [`MIN_EXPECTED`] are pooled. Fails outright (Err) if the pdf integrates to more than one or
 /// samples land where the pdf is zero.
@@ -153,6 +263,9 @@ pub fn chi2_directions(
     let (dt, dp) = (PI / nt as f64, 2.0 * PI / np as f64);
 
     let mut observed = vec![0.0f64; nt * np + 1];
+    // One sampled direction per cell, to tell a sample where the pdf is zero from one in a
+    // sliver of support too thin for the quadrature to see.
+    let mut witness: Vec<Option<Vec3>> = vec![None; nt * np + 1];
     let mut collision = Stats::default();
     for _ in 0..n {
         let wi = sample(rng);
@@ -168,6 +281,9 @@ pub fn chi2_directions(
             None => nt * np,
         };
         observed[cell] += 1.0;
+        if witness[cell].is_none() {
+            witness[cell] = wi;
+        }
     }
 
     let rule = gauss_legendre(6);
@@ -175,26 +291,39 @@ pub fn chi2_directions(
     let (mut mass, mut collision_expected) = (0.0, 0.0);
     for i in 0..nt {
         for j in 0..np {
-            let (mut integral, mut integral_sq) = (0.0, 0.0);
-            for &(xt, wt) in &rule {
-                let theta = (i as f64 + 0.5 * (xt + 1.0)) * dt;
-                let (sin_t, cos_t) = theta.sin_cos();
-                for &(xp, wp) in &rule {
-                    let phi = (j as f64 + 0.5 * (xp + 1.0)) * dp;
-                    let w = Vec3::new(
-                        (sin_t * phi.cos()) as f32,
-                        (sin_t * phi.sin()) as f32,
-                        cos_t as f32,
-                    );
-                    let p = pdf(w);
-                    integral += wt * wp * p * sin_t;
-                    integral_sq += wt * wp * p * p * sin_t;
-                }
-            }
-            integral *= 0.25 * dt * dp;
+            let cell = [
+                i as f64 * dt,
+                (i + 1) as f64 * dt,
+                j as f64 * dp,
+                (j + 1) as f64 * dp,
+            ];
+            let (integral, integral_sq) = if i + 1 == nt / 2 || i == nt / 2 {
+                horizon_cell_integrals(&pdf, &rule, cell)
+            } else {
+                cell_integrals(&pdf, &rule, cell, CELL_DEPTH)
+            };
             mass += integral;
-            collision_expected += integral_sq * 0.25 * dt * dp;
+            collision_expected += integral_sq;
             expected[i * np + j] = integral * n as f64;
+        }
+    }
+    // A cell whose quadrature found no density but which a sample with a positive pdf landed
+    // in holds a sliver of the support thinner than the quadrature's points (the edge of
+    // total internal reflection seen at a grazing angle): it is integrated again on a
+    // 32 x 32 grid of sub-cells.
+    for c in 0..nt * np {
+        if expected[c] == 0.0 && witness[c].is_some_and(|w| pdf(w) > 0.0) {
+            let (i, j) = (c / np, c % np);
+            let cell = [
+                i as f64 * dt,
+                (i + 1) as f64 * dt,
+                j as f64 * dp,
+                (j + 1) as f64 * dp,
+            ];
+            let (integral, integral_sq) = subdivided_cell_integrals(&pdf, &rule, cell, 32);
+            mass += integral;
+            collision_expected += integral_sq;
+            expected[c] = integral * n as f64;
         }
     }
     if mass > 1.0 + 1e-3 {
