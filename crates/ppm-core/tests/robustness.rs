@@ -1,4 +1,4 @@
-//! Never losing a render, at the core (issue 17): a path depth bound that keeps every
+//! Never losing a render, at the core: a path depth bound that keeps every
 //! iteration finite, iterations that can be abandoned without touching the image, memory
 //! stated before it is allocated, and light powers that must fit f32 arithmetic.
 

@@ -209,8 +209,7 @@ impl Bsdf {
 
     /// Samples `wi` given `wo`; `u_lobe` chooses a lobe, `u` the direction within it.
     /// `None` when the sample carries no energy (e.g. below the horizon). Always inlined
-    /// into the tracers' loops: left to LLVM, that depended on how the crate was split into
-    /// codegen units (see `Geometry::intersect`).
+    /// into the tracers' loops, whatever the crate's split into codegen units.
     #[inline(always)]
     pub fn sample(
         &self,
@@ -271,7 +270,7 @@ impl Bsdf {
     }
 
     /// The glossy and specular lobes, `None` if there are none: what photon mapping traces
-    /// rather than density-estimates (assignment 6.4). A BSDF of its own: sampling it samples
+    /// rather than density-estimates. A BSDF of its own: sampling it samples
     /// only those lobes, and its pdf is that of its own sampling.
     #[inline]
     pub fn non_diffuse_part(&self) -> Option<Bsdf> {

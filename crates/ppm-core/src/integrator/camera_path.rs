@@ -61,8 +61,7 @@ impl CameraPath {
     /// camera and after a delta bounce; after a non-specular bounce it is weighted against
     /// light sampling by `strategy` (the power heuristic for MIS, 0 when only light sampling
     /// finds emitters, 1 when only BSDF sampling does).
-    /// Always inlined into the walk, as `scatter`: left to LLVM, both became calls once the
-    /// walk was shared by three integrators (see `Bsdf::sample`).
+    /// Always inlined into the walk, as `scatter` is (docs/performance.md, "Inlining").
     #[inline(always)]
     pub fn emission(&self, scene: &Scene, hit: &Hit, wo: Vec3, strategy: LightStrategy) -> Vec3 {
         let material = scene.material(hit);

@@ -10,7 +10,7 @@
 //! The three integrators' vertex rules:
 //! - path tracer: a light sample with the whole BSDF, then continue with the whole BSDF;
 //! - photon mapping eye pass: the diffuse part is density-estimated, the non-diffuse part is
-//!   traced ([`Walk::trace_non_diffuse`]: a light sample at a glossy lobe, assignment 6.4);
+//!   traced ([`Walk::trace_non_diffuse`]: a light sample at a glossy lobe);
 //! - stochastic PPM's visible-point pass: stop at the first vertex with a diffuse part and keep
 //!   it as a [`VisiblePoint`] ([`walk_to_visible_point`]).
 
@@ -124,7 +124,7 @@ impl Walk<'_> {
         self.add(ld);
     }
 
-    /// The traced lobes of a photon-mapping vertex (assignment 6.4): the non-diffuse part of
+    /// The traced lobes of a photon-mapping vertex: the non-diffuse part of
     /// the BSDF is never density-estimated. A glossy part gets one light sample, MIS-weighted
     /// (power heuristic) against the BSDF sample that continues the path, so the emission that
     /// sample finds is not counted twice; a delta part only continues. `Stop` when there is

@@ -1,4 +1,4 @@
-//! Light paths that leave photons on non-specular surfaces (assignment part 6.1): the walk
+//! Light paths that leave photons on non-specular surfaces: the walk
 //! the photon passes of `ppm` and `sppm` share, generic over where the photons go
 //! ([`PhotonSink`]).
 
@@ -45,9 +45,8 @@ pub fn stores_photons(bsdf: &Bsdf) -> bool {
 /// correction. Russian roulette keeps photons of about equal power: the survival probability
 /// is q = min(1, max(flux after) / max(flux before)) (the reflectivity of the bounce along the
 /// sampled direction), and survivors are divided by q.
-/// Always inlined into the pass's loop over paths, as at afc2b78 before the walk became
-/// generic over its sink: left to LLVM it became a call per path that re-derives its
-/// loop invariants and keeps the ray counters in memory.
+/// Always inlined into the pass's loop over paths, so that the loop's invariants are derived
+/// once and the ray counters stay in registers (docs/performance.md, "Inlining").
 #[inline(always)]
 pub fn trace_light_path<S: PhotonSink>(
     scene: &Scene,

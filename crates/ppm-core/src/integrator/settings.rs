@@ -36,7 +36,7 @@ pub enum LightStrategy {
 /// How photon mapping computes direct light at diffuse gather points.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum DirectMode {
-    /// Photons of every bounce are stored and density-estimated (the assignment's method).
+    /// Photons of every bounce are stored and density-estimated (Hachisuka et al. 2008).
     Photons,
     /// Direct light by light sampling at the gather point; photons are stored from their
     /// second bounce on.
@@ -106,10 +106,9 @@ impl RenderSettings {
             photons: d.photons.unwrap_or(DEFAULT_PHOTONS),
             radius: d.radius.map_or(Radius::Auto, Radius::World),
             alpha: d.alpha,
-            // Measured at equal time (30 s, 2 threads, 256 px wide, against the path-traced
-            // references): relMSE 6.3e-4 sampled vs 9.9e-4 photons on cornell_box.yml, and
-            // 1.08e-2 vs 1.10e-2 on cornell_box_water.yml. Light sampling removes the noisiest
-            // part of the density estimate (direct light) for one shadow ray per pixel.
+            // Light sampling removes the noisiest part of the density estimate (direct light)
+            // for one shadow ray per pixel: the lower error at equal time on the shipped
+            // scenes (docs/performance.md, "Direct light by default").
             direct: DirectMode::Sampled,
         }
     }

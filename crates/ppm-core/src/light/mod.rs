@@ -358,8 +358,8 @@ impl Light {
     /// uniform direction (pdf 1/(4 pi)), weight 4 pi I. Spot lights: a direction uniform in
     /// the cone, weighted by the falloff (`spot.rs`). Directional lights: a point uniform on
     /// the disk covering the scene (pdf 1/(pi R^2)) and the light's direction, weight E pi R^2.
-    /// Always inlined (once per light path): left to LLVM it stayed a call, and so did the
-    /// emitter's sampling inside it.
+    /// Always inlined (once per light path), with the emitter's sampling inside it
+    /// (docs/performance.md, "Inlining").
     #[inline(always)]
     pub fn sample_emission(&self, u_pos: Vec2, u_dir: Vec2) -> EmissionSample {
         match self {

@@ -40,7 +40,7 @@ impl Columns {
     #[inline(always)]
     pub(super) fn view(&self) -> ColumnsView<'_> {
         // Spelled out rather than through array `map`, which LLVM does not always inline
-        // (it became a call per density estimate when an unrelated file changed).
+        // (a call per density estimate).
         let [x, y, z] = &self.position;
         let [r, g, b] = &self.flux;
         let [u, v, w] = &self.wi;

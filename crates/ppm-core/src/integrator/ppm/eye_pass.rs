@@ -1,4 +1,4 @@
-//! The eye pass (assignment parts 6.2 and 6.4): camera paths through specular chains to a
+//! The eye pass: camera paths through specular chains to a
 //! diffuse point, where the photon map gives the reflected radiance.
 
 use crate::bsdf::Bsdf;

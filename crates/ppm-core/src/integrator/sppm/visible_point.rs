@@ -51,8 +51,8 @@ impl SplatPoint {
 /// The walk follows delta lobes, picks up emission (fully at the camera and after a delta
 /// bounce, MIS-weighted after a glossy one) and applies Russian roulette. At each vertex:
 /// - no diffuse part (mirror, glass, a purely glossy phong): the non-diffuse part is traced
-///   ([`crate::integrator::Walk::trace_non_diffuse`]: a glossy part gets one light sample with MIS, assignment
-///   6.4);
+///   ([`crate::integrator::Walk::trace_non_diffuse`]: a glossy part gets one light sample with
+///   MIS);
 /// - a diffuse part only: the visible point, weight beta albedo / pi; with `--direct sampled`
 ///   one light sample of the diffuse part (photons then start at their second bounce);
 /// - both parts (phong): one is chosen, the diffuse part with the probability q the BSDF's
