@@ -28,8 +28,11 @@ fn every_algorithm_is_named_and_parsed_by_its_table_line() {
         }
         assert!(!entry.description.is_empty());
     }
-    // The names saved renders and scene files hold stay what they were.
-    assert_eq!(Algorithm::NAMES, ["pt", "ppm", "sppm", "vcm"]);
+    // The names saved renders and scene files hold stay what they were; new ones follow.
+    assert_eq!(
+        Algorithm::NAMES,
+        ["pt", "ppm", "sppm", "vcm", "bpt", "bpm", "lt"]
+    );
 }
 
 /// An integrator writes exactly the AOVs it declares, once an iteration is done; its snapshot

@@ -397,6 +397,9 @@ impl Fingerprint {
                     Algorithm::Ppm => "Ppm",
                     Algorithm::Sppm => "Sppm",
                     Algorithm::Vcm => "Vcm",
+                    Algorithm::Bpt => "Bpt",
+                    Algorithm::Bpm => "Bpm",
+                    Algorithm::Lt => "Lt",
                 })
             }),
             None => record,

@@ -17,6 +17,15 @@ pub enum Algorithm {
     /// Vertex connection and merging (`-a vcm`, Georgiev et al. 2012): bidirectional path
     /// tracing and photon mapping combined by MIS; one light subpath per pixel per iteration.
     Vcm,
+    /// Bidirectional path tracing (`-a bpt`): VCM's connection techniques and light tracing,
+    /// no merging (Veach 1997, ch. 10; SmallVCM's `bpt`).
+    Bpt,
+    /// Bidirectional photon mapping (`-a bpm`): merging at every non-delta camera vertex,
+    /// weighted by MIS over the merges (Georgiev et al. 2012, sec. 4; SmallVCM's `bpm`).
+    Bpm,
+    /// Light tracing (`-a lt`): light subpaths connected to the camera; camera rays only
+    /// take the emission they see through delta lobes (SmallVCM's `lt`).
+    Lt,
 }
 
 /// A render setting that some integrators read and the others ignore (the seed, the depths
@@ -111,6 +120,28 @@ impl Algorithm {
             description: "Vertex connection and merging: bidirectional path tracing and photon \
                           mapping by MIS.",
             reads: &[Setting::Radius, Setting::Alpha],
+        },
+        AlgorithmEntry {
+            algorithm: Algorithm::Bpt,
+            name: "bpt",
+            aliases: &[],
+            description: "Bidirectional path tracing (VCM without merging).",
+            reads: &[],
+        },
+        AlgorithmEntry {
+            algorithm: Algorithm::Bpm,
+            name: "bpm",
+            aliases: &[],
+            description: "Bidirectional photon mapping (VCM's merging alone, by MIS).",
+            reads: &[Setting::Radius, Setting::Alpha],
+        },
+        AlgorithmEntry {
+            algorithm: Algorithm::Lt,
+            name: "lt",
+            aliases: &[],
+            description: "Light tracing: light paths connected to the camera (incomplete behind \
+                          mirrors and glass).",
+            reads: &[],
         },
     ];
 

@@ -53,7 +53,10 @@ pub use shading::ShadingFrame;
 pub use snapshot::{PixelChannel, Snapshot};
 pub use sppm::{PixelStatistics, SplatPoint, SppmRenderer};
 pub use start::RenderStart;
-pub use vcm::{Techniques, VcmRenderer};
+pub use vcm::{
+    Bpm, BpmRenderer, Bpt, BptRenderer, Lt, LtRenderer, TechniqueSet, Techniques, VcmRenderer,
+    VcmSubset,
+};
 
 /// What one iteration did, for progress and speed reports.
 #[derive(Clone, Copy, Debug, Default)]

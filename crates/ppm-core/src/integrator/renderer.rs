@@ -10,7 +10,9 @@
 use super::{
     Algorithm, IterationStats, MemoryEstimate, RenderSettings, RenderStart, Snapshot, Stop,
 };
-use super::{PathTracer, PpmRenderer, SppmRenderer, VcmRenderer};
+use super::{
+    BpmRenderer, BptRenderer, LtRenderer, PathTracer, PpmRenderer, SppmRenderer, VcmRenderer,
+};
 use crate::film::{Film, Image};
 use crate::pixel_bounds::PixelBounds;
 use crate::scene::Scene;
@@ -161,6 +163,9 @@ macro_rules! for_each_integrator {
             Ppm: PpmRenderer,
             Sppm: SppmRenderer,
             Vcm: VcmRenderer,
+            Bpt: BptRenderer,
+            Bpm: BpmRenderer,
+            Lt: LtRenderer,
         }
     };
 }

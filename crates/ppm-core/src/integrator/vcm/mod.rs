@@ -32,9 +32,11 @@
 mod camera_path;
 mod light_path;
 mod mis;
+mod subsets;
 mod techniques;
 mod vertex;
 
+pub use subsets::{Bpm, BpmRenderer, Bpt, BptRenderer, Lt, LtRenderer, TechniqueSet, VcmSubset};
 pub use techniques::Techniques;
 
 use super::camera_walk::RayCounters;
