@@ -1,45 +1,19 @@
 //! Indices of refraction as the scene file writes them: a number, or a medium's name from
 //! Mitsuba 3's table (`int_ior: water`, `ext_ior: air`).
 
+use crate::mitsuba::ior::NAMED_IOR;
 use serde::de::{self, Deserialize, Deserializer, Visitor};
 use std::fmt;
 
-/// Mitsuba 3's named indices of refraction (its `ior.h`, at 589 nm), by the same names.
-pub const NAMED_IORS: &[(&str, f32)] = &[
-    ("vacuum", 1.0),
-    ("helium", 1.000036),
-    ("hydrogen", 1.000132),
-    ("air", 1.000277),
-    ("carbon dioxide", 1.00045),
-    ("water", 1.333),
-    ("acetone", 1.36),
-    ("ethanol", 1.361),
-    ("carbon tetrachloride", 1.461),
-    ("glycerol", 1.4729),
-    ("benzene", 1.501),
-    ("silicone oil", 1.52045),
-    ("bromine", 1.661),
-    ("water ice", 1.31),
-    ("fused quartz", 1.458),
-    ("pyrex", 1.47),
-    ("acrylic glass", 1.49),
-    ("polypropylene", 1.49),
-    ("bk7", 1.5046),
-    ("sodium chloride", 1.544),
-    ("amber", 1.55),
-    ("pet", 1.575),
-    ("diamond", 2.419),
-];
-
-/// The index of a named medium (case-insensitive).
+/// The index of a named medium of Mitsuba 3's table ([`NAMED_IOR`]), case-insensitive.
 pub fn named_ior(name: &str) -> Option<f32> {
-    NAMED_IORS
+    NAMED_IOR
         .iter()
         .find(|(n, _)| n.eq_ignore_ascii_case(name))
-        .map(|&(_, v)| v)
+        .map(|&(_, v)| v as f32)
 }
 
-/// An index of refraction: a finite number >= 1, or a name of [`NAMED_IORS`].
+/// An index of refraction: a finite number >= 1, or a name of [`NAMED_IOR`].
 #[derive(Clone, Copy, Debug)]
 pub struct Ior(pub f32);
 
@@ -74,7 +48,7 @@ impl<'de> Deserialize<'de> for Ior {
             }
             fn visit_str<E: de::Error>(self, s: &str) -> Result<Ior, E> {
                 named_ior(s).map(Ior).ok_or_else(|| {
-                    let names: Vec<&str> = NAMED_IORS.iter().map(|(n, _)| *n).collect();
+                    let names: Vec<&str> = NAMED_IOR.iter().map(|(n, _)| *n).collect();
                     E::custom(format!("unknown medium `{s}`; known: {}", names.join(", ")))
                 })
             }
