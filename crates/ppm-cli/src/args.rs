@@ -122,6 +122,20 @@ pub struct RenderArgs {
     pub resume: Option<PathBuf>,
 }
 
+/// `NAME=VALUE` of `-D`: a parameter name as Mitsuba's `$name` spells it, and any value.
+fn parse_define(s: &str) -> Result<(String, String), String> {
+    let (name, value) = s
+        .split_once('=')
+        .ok_or_else(|| format!("`{s}` is not NAME=VALUE"))?;
+    let valid = !name.is_empty() && name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_');
+    if !valid {
+        return Err(format!(
+            "`{name}` is not a parameter name (letters, digits and _)"
+        ));
+    }
+    Ok((name.to_string(), value.to_string()))
+}
+
 /// Extra images (arbitrary output variables) a render can write.
 #[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
 pub enum AovArg {
@@ -169,6 +183,10 @@ pub struct SettingsArgs {
     /// Seed of all random numbers (converge: the first of --seeds consecutive seeds).
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
+    /// Mitsuba XML scenes: give the scene's parameter `$NAME` this value, over its
+    /// `<default>` (as `mitsuba -D NAME=VALUE`); repeatable.
+    #[arg(short = 'D', value_name = "NAME=VALUE", value_parser = parse_define)]
+    pub define: Vec<(String, String)>,
     /// Worker threads [default: all cores] (-t is threads, as in Mitsuba, not a time limit).
     #[arg(short = 't', long, value_parser = clap::value_parser!(u64).range(1..=4096), allow_negative_numbers = true)]
     pub threads: Option<u64>,

@@ -182,7 +182,7 @@ pub fn run(args: &ConvergeArgs, interrupt: &Interrupt) -> Result<Outcome> {
     output::check_writable(&csv_path)?;
     output::check_writable(&plot_path)?;
     let reference = output::read_reference(&args.reference).context("reading --reference")?;
-    let mut scene = setup::load_scene(&scene_path)?;
+    let mut scene = setup::load_scene(&scene_path, &args.settings.define)?;
     setup::apply_resolution(
         &mut scene,
         &args.settings,

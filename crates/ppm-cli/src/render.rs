@@ -132,7 +132,7 @@ pub fn run(args: &RenderArgs, interrupt: &Interrupt) -> Result<Outcome> {
         .map(|p| output::read_reference(p).context("reading --reference"))
         .transpose()?;
 
-    let (mut scene, scene_hash) = setup::load_scene_hashed(&scene_path)?;
+    let (mut scene, scene_hash) = setup::load_scene_hashed(&scene_path, &args.settings.define)?;
     let algorithm = crate::args::resolve_algorithm(args.algorithm, scene.defaults.algorithm);
     let iterations = check_algorithm_options(args, algorithm)?;
     setup::apply_resolution(

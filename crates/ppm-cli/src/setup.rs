@@ -44,14 +44,15 @@ pub fn locate_scene(arg: &Path) -> Result<PathBuf> {
     )
 }
 
-/// Loads a scene file, printing the loader's warnings to stderr.
-pub fn load_scene(path: &Path) -> Result<Scene> {
-    load_scene_hashed(path).map(|(scene, _)| scene)
+/// Loads a scene file with the parameters of `-D` (Mitsuba XML scenes), printing the
+/// loader's warnings to stderr.
+pub fn load_scene(path: &Path, defines: &[(String, String)]) -> Result<Scene> {
+    load_scene_hashed(path, defines).map(|(scene, _)| scene)
 }
 
 /// Like [`load_scene`], with the scene's content hash (recorded in the images' provenance).
-pub fn load_scene_hashed(path: &Path) -> Result<(Scene, u64)> {
-    let loaded = ppm_scene::load_scene(path)
+pub fn load_scene_hashed(path: &Path, defines: &[(String, String)]) -> Result<(Scene, u64)> {
+    let loaded = ppm_scene::load_scene_with_defines(path, defines)
         .with_context(|| format!("cannot load scene {}", path.display()))?;
     for warning in &loaded.warnings {
         status!("warning: {warning}");

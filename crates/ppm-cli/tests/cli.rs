@@ -4,6 +4,7 @@
 mod common;
 
 use common::*;
+use std::path::Path;
 
 #[test]
 fn help_lists_subcommands_and_exit_codes() {
@@ -222,4 +223,25 @@ fn compare_errors_name_the_files() {
         1,
     );
     assert!(err.contains("nowhere.exr"), "{err}");
+}
+
+/// A Mitsuba XML scene renders from the command line, and `-D NAME=VALUE` sets its `$NAME`
+/// over the file's `<default>` (its `$res` is the image size); a malformed `-D` is refused.
+#[test]
+fn a_mitsuba_scene_takes_its_parameters_from_dash_d() {
+    let dir = tempfile::tempdir().unwrap();
+    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("../ppm-scene/tests/data/mitsuba");
+    for file in ["cbox.xml", "short_block.serialized", "tall_block.ply"] {
+        std::fs::copy(data.join(file), dir.path().join(file)).unwrap();
+    }
+    let out = run(
+        dir.path(),
+        &["cbox.xml", "-D", "res=12", "-n", "1", "-a", "pt", "-q"],
+    );
+    assert_ok(&out);
+    let (w, h, pixels) = read_exr(&dir.path().join("cbox.exr"));
+    assert_eq!((w, h), (12, 12), "-D res=12 sets the film's size");
+    assert!(pixels.iter().any(|p| p[0] > 0.0), "a black Cornell box");
+    let err = assert_fails(&run(dir.path(), &["cbox.xml", "-D", "res"]), 2);
+    assert!(err.contains("NAME=VALUE"), "{err}");
 }
