@@ -439,7 +439,7 @@ mod tests {
         }
         let err = parse(&["s.yml", "-a", "mlt"]).unwrap_err().to_string();
         assert!(
-            err.contains("[possible values: pt, ppm, sppm, vcm]"),
+            err.contains("[possible values: pt, ppm, sppm, vcm, bpt, bpm, lt]"),
             "{err}"
         );
         let help = Cli::command().render_long_help().to_string();

@@ -234,7 +234,7 @@ mod tests {
         let e = "mlt".parse::<Algorithm>().unwrap_err();
         assert_eq!(
             e.to_string(),
-            "unknown algorithm `mlt`: expected one of pt, ppm, sppm, vcm"
+            "unknown algorithm `mlt`: expected one of pt, ppm, sppm, vcm, bpt, bpm, lt"
         );
         assert!("PPM".parse::<Algorithm>().is_err(), "names are exact");
     }
