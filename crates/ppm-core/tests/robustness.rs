@@ -113,7 +113,8 @@ fn an_abandoned_iteration_leaves_no_trace() {
 
 /// Each integrator states what it will allocate: at least what it holds after an iteration
 /// (the photon buffer did not need to grow in this box), and the photon part only for
-/// photon mapping and VCM (its light vertices).
+/// photon mapping and the VCM sets that keep light vertices to connect or merge (all but lt,
+/// which splats each vertex as it is traced).
 #[test]
 fn memory_estimates_cover_what_the_integrators_allocate() {
     let scene = cornell(32, BoxContents::Diffuse);
@@ -142,7 +143,11 @@ fn memory_estimates_cover_what_the_integrators_allocate() {
         let photons = estimate.items.iter().any(|i| i.part == MemoryPart::Photons);
         assert_eq!(
             photons,
-            matches!(algorithm, Algorithm::Ppm | Algorithm::Vcm)
+            matches!(
+                algorithm,
+                Algorithm::Ppm | Algorithm::Vcm | Algorithm::Bpt | Algorithm::Bpm
+            ),
+            "{algorithm:?}: photon part"
         );
     }
     // The largest requests do not overflow and name their part.
