@@ -11,7 +11,7 @@ use ppm_core::pixel_bounds::PixelBounds;
 use ppm_core::prelude::*;
 use ppm_tests::{load_small, SCENES};
 
-use test_scenes::{assert_converges_to_pt, render_stats, z_scores, PixelStats};
+use test_scenes::{assert_agrees_with_pt, assert_converges_to_pt, render_stats, PixelStats};
 
 /// Per scene: resolution, path-traced iterations of the reference and VCM iterations. The
 /// water box needs many path-traced iterations (see tests/sppm.rs); so does the glass and
@@ -139,29 +139,7 @@ fn pixels_away_from_edges(scene: &Scene, distance: f32) -> Vec<bool> {
 /// box); its pixels and its mean are held to the z-test (4 standard errors of the
 /// difference), the furnace holds it to the exact answer.
 fn assert_agrees_per_pixel(name: &str, label: &str, pt: &PixelStats, other: &PixelStats) {
-    let (a, b) = (pt.image_mean(), other.image_mean());
-    let se = (pt.image_mean_se().powi(2) + other.image_mean_se().powi(2)).sqrt();
-    eprintln!(
-        "{name}: pt {a} {label} {b}, se of the difference {se}, relative difference {:+.2e}",
-        (b - a) / a
-    );
-    assert!(
-        (a - b).abs() < 4.0 * se,
-        "{name}: image means pt {a} {label} {b}, se {se}"
-    );
-    let z = z_scores(pt, other);
-    let beyond = z.iter().filter(|z| z.abs() > 4.0).count();
-    let mean_z2 = z.iter().map(|z| z * z).sum::<f64>() / z.len() as f64;
-    eprintln!(
-        "{name}: {beyond} of {} beyond 4 sigma, mean z^2 {mean_z2}",
-        z.len()
-    );
-    assert!(
-        beyond * 100 <= z.len(),
-        "{name}: {beyond} of {} beyond 4 sigma",
-        z.len()
-    );
-    assert!(mean_z2 < 1.5, "{name}: mean z^2 = {mean_z2}");
+    assert_agrees_with_pt(name, label, pt, other, None, 1.5);
 }
 
 /// Statistics of `iterations` iterations of `renderer`: of the whole image, and with the
