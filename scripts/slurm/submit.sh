@@ -22,7 +22,13 @@ mkdir -p "$out_dir"
 out_dir=$(cd "$out_dir" && pwd)
 scene=$(realpath "$scene")
 
-export PPM=${PPM:-ppm} SCENE=$scene ITERATIONS=$iterations OUT_DIR=$out_dir PPM_ARGS="$*"
+# Each flag single-quoted (a ' inside written '\''), so render_shard.sbatch gets back exactly
+# these words: spaces, quotes and glob characters in them survive.
+ppm_args=""
+for arg in "$@"; do
+    ppm_args+="'${arg//\'/\'\\\'\'}' "
+done
+export PPM=${PPM:-ppm} SCENE=$scene ITERATIONS=$iterations OUT_DIR=$out_dir PPM_ARGS=$ppm_args
 # shellcheck disable=SC2086 # SBATCH_ARGS is a list of options
 array=$(sbatch --parsable ${SBATCH_ARGS:-} --array="0-$((shards - 1))" \
     --output="$out_dir/shard_%a.log" --export=ALL "$here/render_shard.sbatch")
