@@ -15,6 +15,7 @@ use ppm_core::integrator::{bounded_depth, MAX_DEPTH};
 use ppm_core::light::{Light, PointLight};
 use ppm_core::material::Material;
 use ppm_core::scene::{RenderDefaults, SceneBuilder};
+use std::collections::HashMap;
 use std::path::Path;
 
 /// A camera farther than this from the world origin (in any coordinate) has the scene made
@@ -58,13 +59,20 @@ pub fn build(
 
     let materials = file.materials.map(|m| m.0).unwrap_or_default();
     let mut used = vec![false; materials.len()];
+    // Names to indices once, so each object's lookup is O(1) and loading stays linear in the
+    // number of objects and materials.
+    let index: HashMap<&str, usize> = materials
+        .iter()
+        .enumerate()
+        .map(|(i, (n, _))| (n.as_str(), i))
+        .collect();
     for (name, desc) in &materials {
         let m = material(name, desc, path, warnings)?;
         builder.add_material(m);
     }
     let lookup = |name: &str, field: &str, used: &mut Vec<bool>| -> Result<u32, LoadError> {
-        match materials.iter().position(|(n, _)| n == name) {
-            Some(i) => {
+        match index.get(name) {
+            Some(&i) => {
                 used[i] = true;
                 Ok(i as u32)
             }

@@ -8,6 +8,7 @@ use crate::error::LoadError;
 use glam::Vec3;
 use ppm_core::bsdf::{Bsdf, Phong};
 use ppm_core::material::Material;
+use std::collections::HashSet;
 use std::path::Path;
 
 /// Diffuse albedo of materials without `Kd`, and of faces without a usable material.
@@ -48,6 +49,7 @@ pub fn parse_mtl(
     let mut ignored: Vec<String> = Vec::new();
     // Statements of no MTL dialect ppm knows (often a typo: `Kdd`), with their first line.
     let mut unknown: Vec<(String, usize)> = Vec::new();
+    let mut defined: HashSet<String> = HashSet::new();
     for (i, raw) in text.lines().enumerate() {
         let line_no = i + 1;
         let line = raw.split('#').next().unwrap_or("").trim();
@@ -62,7 +64,7 @@ pub fn parse_mtl(
             if name.is_empty() {
                 return Err(err("`newmtl` needs a material name".into()));
             }
-            if materials.iter().any(|m| m.name == name) {
+            if !defined.insert(name.clone()) {
                 warnings.push(format!(
                     "{}:{line_no}: material `{name}` is defined again; the last definition is used",
                     path.display()

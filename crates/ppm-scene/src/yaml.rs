@@ -12,6 +12,7 @@ use crate::values::{
 use ppm_core::integrator::Algorithm;
 use serde::de::{self, DeserializeSeed, Deserializer, MapAccess, Visitor};
 use serde::Deserialize;
+use std::collections::HashSet;
 use std::fmt;
 
 /// A whole scene file.
@@ -216,8 +217,9 @@ impl<'de> Deserialize<'de> for Materials {
             }
             fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<Materials, A::Error> {
                 let mut out: Vec<(String, MaterialDesc)> = Vec::new();
+                let mut seen: HashSet<String> = HashSet::new();
                 while let Some(name) = map.next_key::<String>()? {
-                    if out.iter().any(|(n, _)| *n == name) {
+                    if !seen.insert(name.clone()) {
                         // Fail inside the value, so the error points at the second definition.
                         return map
                             .next_value_seed(Duplicate(name))
