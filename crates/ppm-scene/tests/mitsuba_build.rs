@@ -269,7 +269,7 @@ fn spheres_are_analytic_and_bsdfs_map_to_ppms() {
     assert!(b.spheres[1].inward);
     let bsdf = |m: u32| b.materials[m as usize].bsdf;
     assert!(
-        matches!(bsdf(s.material), Bsdf::Glass(g) if (g.ior - 1.333).abs() < 1e-6 && g.color == Vec3::ONE)
+        matches!(bsdf(s.material), Bsdf::Dielectric(d) if (d.eta - 1.333).abs() < 1e-6 && d.specular_transmittance == Vec3::ONE)
     );
     assert!(matches!(bsdf(b.spheres[1].material), Bsdf::Mirror(m) if m.color == Vec3::splat(0.9)));
     assert!(
@@ -290,8 +290,8 @@ fn spheres_are_analytic_and_bsdfs_map_to_ppms() {
 fn what_ppm_cannot_render_is_an_error_naming_it_and_its_place() {
     let cases = [
         (
-            "<shape type=\"cube\">\n<bsdf type=\"roughconductor\"/></shape>",
-            "scene.xml:6: bsdf `roughconductor` at scene.xml:6 is not supported yet",
+            "<shape type=\"cube\">\n<bsdf type=\"blendbsdf\"/></shape>",
+            "scene.xml:6: bsdf `blendbsdf` at scene.xml:6 is not supported yet",
         ),
         (
             "<shape type=\"cube\">\n<bsdf type=\"diffuse\"><float name=\"reflectancex\" value=\"0.5\"/></bsdf></shape>",
@@ -304,10 +304,6 @@ fn what_ppm_cannot_render_is_an_error_naming_it_and_its_place() {
         (
             "\n<emitter type=\"envmap\"/>",
             "scene.xml:6: emitter `envmap` at scene.xml:6 is not supported yet",
-        ),
-        (
-            "<shape type=\"cube\">\n<bsdf type=\"conductor\"/></shape>",
-            "scene.xml:6: conductor `Cu`: only material=\"none\"",
         ),
         (
             "<shape type=\"cube\"><bsdf type=\"dielectric\">\n<string name=\"int_ior\" value=\"unobtainium\"/></bsdf></shape>",

@@ -26,6 +26,9 @@ pub enum Role {
     Reflectance,
     /// An emitter's radiance or intensity: unbounded, no illuminant.
     Emission,
+    /// A conductor's `eta` or `k`: converted as a reflectance (under D65) but not clamped,
+    /// as Mitsuba 3's RGB variants do (they warn about the out-of-gamut colour and keep it).
+    Index,
 }
 
 /// First wavelength of the tables, nm.
@@ -154,7 +157,7 @@ fn sampled(samples: &[(f64, f64)], lambda: f64) -> f64 {
 /// The XYZ of the spectrum `s(λ)` for `role` (normalised as the module says).
 fn spectrum_xyz(s: impl Fn(f64) -> f64, role: Role) -> DVec3 {
     match role {
-        Role::Reflectance => {
+        Role::Reflectance | Role::Index => {
             let norm = integrate(|l| DVec3::splat(d65(l) * cie_xyz(l).y)).y;
             integrate(|l| s(l) * d65(l) * cie_xyz(l)) / norm
         }
@@ -168,7 +171,7 @@ fn spectrum_xyz(s: impl Fn(f64) -> f64, role: Role) -> DVec3 {
 /// Linear sRGB of a spectrum used as `role`; `Err` says why it cannot be converted.
 pub fn to_rgb(spectrum: &Spectrum, role: Role) -> Result<DVec3, String> {
     let rgb = match (spectrum, role) {
-        (Spectrum::Uniform(v), Role::Reflectance) => return Ok(DVec3::splat(*v)),
+        (Spectrum::Uniform(v), Role::Reflectance | Role::Index) => return Ok(DVec3::splat(*v)),
         (Spectrum::Uniform(v), Role::Emission) => return Ok(*v * xyz_to_srgb(DVec3::ONE)),
         (Spectrum::Samples(samples), role) => {
             if samples.is_empty() {
@@ -176,7 +179,7 @@ pub fn to_rgb(spectrum: &Spectrum, role: Role) -> Result<DVec3, String> {
             }
             xyz_to_srgb(spectrum_xyz(|l| sampled(samples, l), role))
         }
-        (Spectrum::Blackbody { .. }, Role::Reflectance) => {
+        (Spectrum::Blackbody { .. }, Role::Reflectance | Role::Index) => {
             return Err("a blackbody spectrum is an emission, not a reflectance".into())
         }
         (Spectrum::Blackbody { temperature, scale }, Role::Emission) => {
@@ -185,7 +188,7 @@ pub fn to_rgb(spectrum: &Spectrum, role: Role) -> Result<DVec3, String> {
     };
     Ok(match role {
         Role::Reflectance => rgb.clamp(DVec3::ZERO, DVec3::ONE),
-        Role::Emission => rgb.max(DVec3::ZERO),
+        Role::Emission | Role::Index => rgb.max(DVec3::ZERO),
     })
 }
 

@@ -1,19 +1,18 @@
 //! The build layer: from a [`SceneTree`] to ppm's [`SceneBuilder`], one function per plugin
-//! (`sensor.rs`, `bsdf.rs`, `shape.rs`, emitters here). Each reads its properties through
+//! (`sensor.rs`, `bsdf/`, `shape.rs`, `emitter.rs`). Each reads its properties through
 //! [`Props`], so a property nobody reads is an error; a plugin ppm cannot render yet is an
 //! error naming it and its place ([`unsupported`]), never dropped.
 
 mod bsdf;
+mod emitter;
 mod sensor;
 pub mod shape;
 
 use super::props::Props;
-use super::spectrum::Role;
 use super::tree::{Object, SceneTree};
 use crate::LoadError;
-use glam::{DVec3, Vec3};
+use glam::Vec3;
 use ppm_core::bsdf::Bsdf;
-use ppm_core::light::PointLight;
 use ppm_core::material::Material;
 use ppm_core::scene::{RenderDefaults, SceneBuilder};
 use shape::Geometry;
@@ -57,7 +56,7 @@ pub fn build(tree: &SceneTree, warnings: &mut Vec<String>) -> Result<SceneBuilde
         add_shape(tree, shape, &mut builder, &mut materials, warnings)?;
     }
     for emitter in root.objects("emitter") {
-        add_emitter(tree, emitter, &mut builder)?;
+        emitter::add_emitter(tree, emitter, &mut builder, warnings)?;
     }
     for class in ["medium", "phase", "volume", "film", "sampler", "rfilter"] {
         if let Some(&o) = root.objects(class).first() {
@@ -83,7 +82,7 @@ pub fn build(tree: &SceneTree, warnings: &mut Vec<String>) -> Result<SceneBuilde
             .any(|mesh| mesh.materials.iter().any(|&m| emits(m)));
     if !has_light {
         warnings.push(format!(
-            "{}: the scene has no light ppm renders (no area emitter on a shape, no point emitter): the image will be black",
+            "{}: the scene has no light ppm renders (no area emitter on a shape, no point, spot or directional emitter): the image will be black",
             tree.root().location.file.display()
         ));
     }
@@ -122,7 +121,7 @@ fn add_shape(
     let emitters = p.objects("emitter");
     let emission = match emitters.as_slice() {
         [] => None,
-        [e] => Some(area_radiance(tree, *e)?),
+        [e] => Some(emitter::area_radiance(tree, *e)?),
         _ => return Err(p.error(format!("{} has more than one emitter", p.object.describe()))),
     };
     for class in ["medium", "texture", "sensor"] {
@@ -138,7 +137,7 @@ fn add_shape(
             Some(&m) => m,
             None => {
                 let m = builder.add_material(
-                    Material::new(bsdf::bsdf(tree, b)?, Vec3::ZERO).named(name(tree, b)),
+                    Material::new(bsdf::bsdf(tree, b, warnings)?, Vec3::ZERO).named(name(tree, b)),
                 );
                 materials.bsdfs.insert(b, m);
                 m
@@ -150,7 +149,7 @@ fn add_shape(
                 name(tree, b),
                 tree.objects[index].location
             );
-            builder.add_material(Material::new(bsdf::bsdf(tree, b)?, le).named(name))
+            builder.add_material(Material::new(bsdf::bsdf(tree, b, warnings)?, le).named(name))
         }
         (None, None) => *materials.default.get_or_insert_with(|| {
             builder.add_material(
@@ -183,62 +182,4 @@ fn name(tree: &SceneTree, bsdf: usize) -> String {
     let o = &tree.objects[bsdf];
     o.id.clone()
         .unwrap_or_else(|| format!("{} ({})", o.plugin, o.location))
-}
-
-/// A non-negative, finite colour of an emitter.
-fn emission(p: &Props, name: &str, default: Option<DVec3>) -> Result<Vec3, LoadError> {
-    let c = match (p.colour_opt(name, Role::Emission)?, default) {
-        (Some(c), _) | (None, Some(c)) => c,
-        (None, None) => {
-            return Err(p.error(format!("emitter `{}` needs `{name}`", p.object.plugin)))
-        }
-    };
-    let c = c.as_vec3();
-    if !(c.is_finite() && c.min_element() >= 0.0) {
-        return Err(p.error(format!(
-            "emitter `{}`: `{name}` {c} is negative or out of single-precision range",
-            p.object.plugin
-        )));
-    }
-    Ok(c)
-}
-
-/// `<emitter type="area">` on a shape: its `radiance`, emitted on the side the shape's
-/// normal faces (ppm's area lights are one-sided like Mitsuba's).
-fn area_radiance(tree: &SceneTree, index: usize) -> Result<Vec3, LoadError> {
-    let p = Props::new(tree, index);
-    if p.object.plugin != "area" {
-        return Err(unsupported(p.object));
-    }
-    let le = emission(&p, "radiance", None)?;
-    p.finish()?;
-    Ok(le)
-}
-
-/// A top-level emitter: `point` (`intensity` in W/sr, default 1; at `position`, or the
-/// origin moved by `to_world`). Area emitters belong to shapes.
-fn add_emitter(
-    tree: &SceneTree,
-    index: usize,
-    builder: &mut SceneBuilder,
-) -> Result<(), LoadError> {
-    let p = Props::new(tree, index);
-    match p.object.plugin.as_str() {
-        "point" => {
-            let intensity = emission(&p, "intensity", Some(DVec3::ONE))?;
-            let m = p.transform("to_world")?;
-            let position = match p.point_opt("position")? {
-                Some(x) => x,
-                None => m.transform_point3(DVec3::ZERO),
-            };
-            p.finish()?;
-            builder.add_point_light(PointLight {
-                position: position.as_vec3(),
-                intensity,
-            });
-            Ok(())
-        }
-        "area" => Err(p.error("emitter `area` must be nested in a <shape>")),
-        _ => Err(unsupported(p.object)),
-    }
 }

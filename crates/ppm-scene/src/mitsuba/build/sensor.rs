@@ -192,19 +192,56 @@ fn film_size(
     Ok(size)
 }
 
-/// ppm's `max_depth` from an `<integrator type="path">` (or `volpath`): Mitsuba counts the
-/// segments of a path including the one that leaves the camera, so its `max_depth` is ppm's
-/// plus one; -1 (unbounded, the default) is ppm's largest depth.
+/// ppm's `max_depth` from the scene's integrator: Mitsuba counts the segments of a path
+/// including the one that leaves the camera, so its `max_depth` is ppm's plus one; -1
+/// (unbounded, the default) is ppm's largest depth.
+///
+/// The integrators whose converged image is that of `path` (in the scenes ppm loads, which
+/// have no media) are read silently: `path`, `volpath`, `volpathmis`, `prb`, `ptracer` and
+/// 0.6's `bdpt`; ppm's algorithm is chosen with `-a`. `direct` (emission and one bounce) is
+/// `max_depth` 2. 0.6's photon mappers (`photonmapper`, `ppm`, `sppm`) give their depth with
+/// a warning that their photon counts and radii are ppm's own settings. The others (`aov`,
+/// `depth`, `moment`, ...) render something else: an error.
 pub fn max_depth(
     tree: &SceneTree,
     index: usize,
     warnings: &mut Vec<String>,
 ) -> Result<u32, LoadError> {
     let p = Props::new(tree, index);
-    if !matches!(p.object.plugin.as_str(), "path" | "volpath") {
-        return Err(unsupported(&tree.objects[index]));
-    }
-    let depth = p.integer("max_depth", -1)?;
+    let depth = match p.object.plugin.as_str() {
+        "path" | "volpath" | "volpathmis" | "prb" | "ptracer" | "bdpt" => {
+            p.ignore(&["light_image", "sample_direct"]);
+            p.integer("max_depth", -1)?
+        }
+        "direct" => {
+            p.ignore(&["emitter_samples", "bsdf_samples", "shading_samples"]);
+            2
+        }
+        "photonmapper" | "ppm" | "sppm" => {
+            const SETTINGS: [&str; 10] = [
+                "photon_count",
+                "initial_radius",
+                "alpha",
+                "granularity",
+                "global_photons",
+                "caustic_photons",
+                "volume_photons",
+                "global_lookup_radius",
+                "caustic_lookup_radius",
+                "lookup_size",
+            ];
+            if SETTINGS.iter().any(|n| p.get(n).is_some()) {
+                warnings.push(format!(
+                    "{}: integrator `{}`: its photon counts and radii are not used: ppm's are set by -a, --photons and --radius",
+                    p.location(),
+                    p.object.plugin
+                ));
+            }
+            p.ignore(&SETTINGS);
+            p.integer("max_depth", -1)?
+        }
+        _ => return Err(unsupported(&tree.objects[index])),
+    };
     if p.integer_opt("rr_depth")?.is_some() {
         warnings.push(format!(
             "{}: integrator: rr_depth is not used: ppm's Russian roulette is its own",
