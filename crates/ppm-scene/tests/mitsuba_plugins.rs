@@ -331,3 +331,20 @@ fn integrators_that_render_the_path_image_give_their_depth() {
         "{e}"
     );
 }
+
+/// Mitsuba 3 gives a shape without a BSDF a diffuse of reflectance 0.5, but an emitting one
+/// a black diffuse (Mitsuba 3.9.1 renders an area light with no BSDF as with reflectance 0,
+/// and 0.5 % brighter below it with reflectance 0.5 in tests/data/mitsuba/renders/lamp.xml's
+/// setting, as `mitsuba_renders.rs` checks).
+#[test]
+fn an_emitter_without_a_bsdf_reflects_nothing() {
+    let (b, _) = load(
+        r#"<shape type="sphere"><emitter type="area"><rgb name="radiance" value="1"/></emitter></shape>
+           <shape type="sphere"/>"#,
+    )
+    .unwrap();
+    let material = |i: usize| &b.materials[b.spheres[i].material as usize];
+    assert!(matches!(material(0).bsdf, Bsdf::Diffuse(d) if d.albedo == Vec3::ZERO));
+    assert_eq!(material(0).emission, Vec3::ONE);
+    assert!(matches!(material(1).bsdf, Bsdf::Diffuse(d) if d.albedo == Vec3::splat(0.5)));
+}

@@ -99,7 +99,7 @@ struct Materials {
     default: Option<u32>,
 }
 
-/// Mitsuba's BSDF for a shape that names none: diffuse, reflectance 0.5.
+/// Mitsuba's BSDF for a shape that names none and does not emit: diffuse, reflectance 0.5.
 const DEFAULT_REFLECTANCE: f32 = 0.5;
 
 fn add_shape(
@@ -157,8 +157,10 @@ fn add_shape(
                     .named("default diffuse"),
             )
         }),
+        // Mitsuba 3 gives an emitting shape without a BSDF a black diffuse one: it emits
+        // and reflects nothing.
         (None, Some(le)) => builder.add_material(
-            Material::new(Bsdf::diffuse(Vec3::splat(DEFAULT_REFLECTANCE)), le)
+            Material::new(Bsdf::diffuse(Vec3::ZERO), le)
                 .named(format!("emitter ({})", tree.objects[index].location)),
         ),
     };
