@@ -80,8 +80,15 @@ pub fn build(desc: &Description, warnings: &mut Vec<String>) -> Result<SceneBuil
     for l in &desc.lights {
         light::add_light(l, mirror, &mut builder)?;
     }
+    // Materials no shape uses are still checked, as pbrt-v4 creates them all.
+    for (i, m) in desc.materials.iter().enumerate() {
+        if !materials.contains_key(&MaterialKey::Anonymous(i)) {
+            material::bsdf(desc, m, &mut Vec::new())?;
+        }
+    }
     for (name, m) in &desc.named_materials {
         if !materials.contains_key(&MaterialKey::Named(name.clone())) {
+            material::bsdf(desc, m, &mut Vec::new())?;
             warnings.push(format!(
                 "{}: material \"{name}\" is never used",
                 m.entity.loc
