@@ -41,6 +41,17 @@ fn finite(p: &ParamSet, c: DVec3) -> Result<glam::Vec3, LoadError> {
     Ok(c32)
 }
 
+/// A light's world-space point, finite in single precision.
+fn place(p: &ParamSet, m: DMat4, name: &str, default: DVec3) -> Result<DVec3, LoadError> {
+    let x = m.transform_point3(p.point3(name, default)?);
+    if !x.as_vec3().is_finite() {
+        return Err(p.error(format!(
+            "`{name}` is out of single-precision range in the world"
+        )));
+    }
+    Ok(x)
+}
+
 /// Adds one `LightSource`; `mirror` is the world mirror of `camera.rs`.
 pub fn add_light(
     light: &LightEntity,
@@ -62,7 +73,7 @@ pub fn add_light(
             if let Some(power) = target(&p, "power")? {
                 intensity *= power / (4.0 * PI);
             }
-            let position = m.transform_point3(p.point3("from", DVec3::ZERO)?);
+            let position = place(&p, m, "from", DVec3::ZERO)?;
             p.finish()?;
             builder.add_point_light(PointLight {
                 position: position.as_vec3(),
@@ -86,8 +97,8 @@ pub fn add_light(
                 let k_e = 2.0 * PI * ((1.0 - start.cos()) + (start.cos() - end.cos()) / 2.0);
                 intensity *= power / k_e;
             }
-            let from = m.transform_point3(p.point3("from", DVec3::ZERO)?);
-            let to = m.transform_point3(p.point3("to", DVec3::Z)?);
+            let from = place(&p, m, "from", DVec3::ZERO)?;
+            let to = place(&p, m, "to", DVec3::Z)?;
             p.finish()?;
             let light = Light::spot(
                 from.as_vec3(),
@@ -106,8 +117,8 @@ pub fn add_light(
             if let Some(e_v) = target(&p, "illuminance")? {
                 irradiance *= e_v;
             }
-            let from = m.transform_point3(p.point3("from", DVec3::ZERO)?);
-            let to = m.transform_point3(p.point3("to", DVec3::Z)?);
+            let from = place(&p, m, "from", DVec3::ZERO)?;
+            let to = place(&p, m, "to", DVec3::Z)?;
             p.finish()?;
             let light = Light::directional((to - from).as_vec3(), finite(&p, irradiance)?)
                 .ok_or_else(|| p.error("from equals to"))?;
