@@ -171,3 +171,48 @@ fn without_the_mirroring_scale_pbrt_shows_the_mirror_image() {
     // The image is not symmetric: the walls' colours swap sides.
     assert!(differs > 100, "{differs}");
 }
+
+/// The mean colours of the left and right halves of the image (columns 0..w/2, w/2..w).
+fn halves(builder: SceneBuilder, iterations: u32) -> [Vec3; 2] {
+    let scene = builder.build().unwrap();
+    let settings = RenderSettings {
+        seed: 3,
+        ..RenderSettings::for_algorithm(&scene, Algorithm::Path)
+    };
+    let mut r = Renderer::new(&scene, &settings);
+    for _ in 0..iterations {
+        r.iterate(&scene);
+    }
+    let image = r.image();
+    let (w, h) = (image.width, image.height);
+    let mut sums = [Vec3::ZERO; 2];
+    for y in 0..h {
+        for x in 0..w {
+            sums[(x >= w / 2) as usize] += image.get(x, y);
+        }
+    }
+    sums.map(|s| s / (w * h / 2) as f32)
+}
+
+#[test]
+fn the_pbrt_cornell_box_renders_unmirrored_against_mitsubas_image() {
+    // Mitsuba 3.9.1's render of cbox.xml at 16 x 16, 4096 spp: the mean of each half
+    // (scripts/mitsuba/cbox_halves.py). The red wall is on the left.
+    let csv = std::fs::read_to_string(data("pbrt/cbox_mitsuba_halves.csv")).unwrap();
+    let mitsuba: Vec<Vec3> = csv
+        .lines()
+        .skip(1)
+        .map(|l| {
+            let v: Vec<f32> = l.split(',').skip(1).map(|x| x.parse().unwrap()).collect();
+            Vec3::new(v[0], v[1], v[2])
+        })
+        .collect();
+    assert!(mitsuba[0].x > 1.2 * mitsuba[1].x && mitsuba[1].y > 1.1 * mitsuba[0].y);
+    let (_, mut pbrt) = cboxes(16);
+    pbrt.camera.set_resolution(16, 16).unwrap();
+    let ppm = halves(pbrt, 512);
+    for (half, (a, b)) in ppm.iter().zip(&mitsuba).enumerate() {
+        let rel = ((*a - *b) / *b).abs();
+        assert!(rel.max_element() < 0.03, "half {half}: ppm {a} mitsuba {b}");
+    }
+}
