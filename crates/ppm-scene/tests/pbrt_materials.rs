@@ -292,6 +292,27 @@ fn shapes_and_their_limits() {
         .all(|p| p.z == 1.0 && p.truncate().length() <= 2.0 + 1e-6));
     let [a, p, q] = m.indices[0].map(|i| m.positions[i as usize]);
     assert!((p - a).cross(q - a).z > 0.0, "a disk faces +z");
+    // A cylinder faces outward (inward with ReverseOrientation), with radial normals.
+    for (reverse, sign) in [("", 1.0), ("ReverseOrientation", -1.0)] {
+        let body = format!(
+            "{reverse} Shape \"cylinder\" \"float radius\" 2 \"float zmin\" 0 \"float zmax\" 3"
+        );
+        let (b, _) = load(&scene(&body)).unwrap();
+        let m = &b.meshes[0];
+        assert!(m
+            .positions
+            .iter()
+            .all(|p| (p.truncate().length() - 2.0).abs() < 1e-5 && (p.z == 0.0 || p.z == 3.0)));
+        for t in &m.indices {
+            let [a, p, q] = t.map(|i| m.positions[i as usize]);
+            let radial = ((a + p + q) / 3.0).truncate().extend(0.0);
+            assert!(sign * (p - a).cross(q - a).dot(radial) > 0.0, "{reverse}");
+            assert!(
+                sign * m.normals[t[0] as usize].dot(radial) > 0.0,
+                "{reverse}"
+            );
+        }
+    }
     let (_, w) = load(&scene(
         "Shape \"bilinearmesh\" \"point3 P\" [0 0 0  1 0 0  0 1 0  1 1 1]",
     ))
@@ -307,8 +328,12 @@ fn shapes_and_their_limits() {
             "a partial sphere (zmin, zmax or phimax) is not supported yet",
         ),
         (
-            "Shape \"cylinder\"",
-            "Shape \"cylinder\": shape type not supported yet",
+            "Shape \"cone\"",
+            "Shape \"cone\": shape type not supported yet",
+        ),
+        (
+            "Shape \"cylinder\" \"float phimax\" 90",
+            "a partial cylinder (phimax < 360) is not supported yet",
         ),
         (
             "Shape \"trianglemesh\" \"point3 P\" [0 0 0 1 0 0 0 1 0] \"integer indices\" [0 1 3]",

@@ -1,5 +1,6 @@
 //! `Shape` to ppm geometry, one function per shape type: `trianglemesh`, `plymesh`,
-//! `bilinearmesh` (two triangles per patch), `disk` (a fan) and the analytic `sphere`.
+//! `bilinearmesh` (two triangles per patch), `disk` (a fan), `cylinder` (a tube of quads) and
+//! the analytic `sphere`.
 //!
 //! Orientation follows pbrt-v4 (`shapes.h`): a triangle's geometric normal is
 //! cross(p1 - p0, p2 - p0) (ppm's convention too), negated when `ReverseOrientation` and a
@@ -64,7 +65,8 @@ pub fn geometry(
         "bilinearmesh" => bilinear_mesh(&p, warnings)?,
         "plymesh" => ply_mesh(&p, main_folder, cache)?,
         "disk" => disk(&p)?,
-        _ => return Err(p.error("shape type not supported yet (trianglemesh, plymesh, bilinearmesh, sphere and disk are)")),
+        "cylinder" => cylinder(&p)?,
+        _ => return Err(p.error("shape type not supported yet (trianglemesh, plymesh, bilinearmesh, sphere, disk and cylinder are)")),
     };
     p.finish()?;
     place(
@@ -220,6 +222,40 @@ fn disk(p: &ParamSet) -> Result<Parts, LoadError> {
     let n = SEGMENTS as u32;
     let indices = (0..n).map(|i| [0, 1 + i, 1 + (i + 1) % n]).collect();
     Ok((positions, Vec::new(), indices))
+}
+
+/// `cylinder`: the open tube of `radius` around z from `zmin` to `zmax` (pbrt-v4's defaults
+/// 1, -1, 1), [`SEGMENTS`] quads around with radial vertex normals, facing outward as pbrt's
+/// cross(dp/du, dp/dv) does; a partial one (`phimax` < 360) is an error.
+fn cylinder(p: &ParamSet) -> Result<Parts, LoadError> {
+    let radius = p.float("radius", 1.0)?;
+    let (z0, z1) = (p.float("zmin", -1.0)?, p.float("zmax", 1.0)?);
+    if p.float("phimax", 360.0)? < 360.0 {
+        return Err(p.error("a partial cylinder (phimax < 360) is not supported yet"));
+    }
+    if !(radius > 0.0 && radius.is_finite()) || z0 == z1 {
+        return Err(p.error(format!(
+            "radius {radius} from z {z0} to {z1}: expected a positive radius and zmin != zmax"
+        )));
+    }
+    let (mut positions, mut normals, mut indices) = (Vec::new(), Vec::new(), Vec::new());
+    for i in 0..SEGMENTS {
+        let a = TAU * i as f64 / SEGMENTS as f64;
+        let radial = DVec3::new(a.cos(), a.sin(), 0.0);
+        for z in [z0.min(z1), z0.max(z1)] {
+            positions.push(radius * radial + DVec3::new(0.0, 0.0, z));
+            normals.push(radial);
+        }
+    }
+    let n = SEGMENTS as u32;
+    for i in 0..n {
+        let (a0, b0) = (2 * i, 2 * i + 1);
+        let (a1, b1) = (2 * ((i + 1) % n), 2 * ((i + 1) % n) + 1);
+        // cross(a1 - a0, b1 - a0) points along the radial direction: outward.
+        indices.push([a0, a1, b1]);
+        indices.push([a0, b1, b0]);
+    }
+    Ok((positions, normals, indices))
 }
 
 /// `sphere`: a full sphere of `radius` at the object's origin, moved by `m` (which must keep
