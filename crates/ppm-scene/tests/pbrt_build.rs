@@ -194,6 +194,14 @@ fn without_the_mirroring_scale_pbrt_shows_the_mirror_image() {
     }
     // The image is not symmetric: the walls' colours swap sides.
     assert!(differs > 100, "{differs}");
+    // The mirrored world keeps every side right (the lamp shines down): the mirror image has
+    // the mean of Mitsuba's image.
+    let (mut pbrt, _) = parse_pbrt(&unmirrored, &data("pbrt/cbox.pbrt")).unwrap();
+    pbrt.camera.set_resolution(32, 32).unwrap();
+    let mean = render_mean(pbrt, 64);
+    let mitsuba = Vec3::new(0.30339, 0.19986, 0.05836);
+    let rel = ((mean - mitsuba) / mitsuba).abs();
+    assert!(rel.max_element() < 0.02, "ppm {mean} mitsuba {mitsuba}");
 }
 
 /// The mean colours of the left and right halves of the image (columns 0..w/2, w/2..w).
