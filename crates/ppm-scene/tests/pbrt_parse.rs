@@ -352,3 +352,28 @@ fn directive_and_nesting_limits_are_errors_not_crashes() {
     let e = file_error(&dir.join("f0.pbrt"));
     assert!(e.contains("includes nested deeper than 32"), "{e}");
 }
+
+#[test]
+fn spectra_can_be_read_from_files() {
+    let dir = write_files(
+        "pbrt_spectrum_file",
+        &[
+            ("main.pbrt", &scene("Material \"diffuse\" \"spectrum reflectance\" \"spds/flat.spd\"\nShape \"sphere\"")),
+            ("spds/flat.spd", "# a flat reflectance\n300 0.25\n800 0.25\n"),
+            ("bad.pbrt", &scene("Material \"diffuse\" \"spectrum reflectance\" \"bad.spd\"")),
+            ("bad.spd", "300 0.25\n800 x\n"),
+        ],
+    );
+    let (b, _) = load_scene_builder(&dir.join("main.pbrt")).unwrap();
+    let m = &b.materials[b.spheres[0].material as usize];
+    let ppm_core::bsdf::Bsdf::Diffuse(d) = m.bsdf else {
+        panic!("{:?}", m.bsdf)
+    };
+    assert!(
+        (d.albedo - Vec3::splat(0.25)).abs().max_element() < 0.01,
+        "{}",
+        d.albedo
+    );
+    let e = file_error(&dir.join("bad.pbrt"));
+    assert!(e.contains("bad.spd:2: `x` is not a number"), "{e}");
+}

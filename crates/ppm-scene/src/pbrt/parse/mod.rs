@@ -249,6 +249,12 @@ impl Parser {
                 return Err(loc.error(format!("parameter `{name}` given twice")));
             }
             let values = self.values(lexer, &decl)?;
+            let values = match (ty, values) {
+                (ParamType::Spectrum, Values::Strings(v)) if v.len() == 1 && is_file(&v[0]) => {
+                    spectrum_file(&v[0], &loc, &self.desc.main_folder)?
+                }
+                (_, values) => values,
+            };
             params.push(Param::new(ty, name.to_string(), values, loc)?);
         }
         Ok(params)
@@ -340,6 +346,58 @@ pub fn resolve(name: &str, loc: &Loc, main_folder: &Path) -> PathBuf {
     } else {
         beside
     }
+}
+
+/// Largest spectrum file read.
+const MAX_SPECTRUM_FILE_BYTES: u64 = 16 << 20;
+
+/// Whether a spectrum's string names a file rather than one of pbrt-v4's named spectra
+/// (`metal-*`, `glass-*`, `stdillum-*`, `illum-*` and the cameras' sensor curves).
+fn is_file(name: &str) -> bool {
+    let named = [
+        "metal-",
+        "glass-",
+        "stdillum-",
+        "illum-",
+        "canon_",
+        "nikon_",
+        "sony_",
+        "hasselblad_",
+    ];
+    !named.iter().any(|p| name.starts_with(p))
+}
+
+/// A spectrum file as pbrt-v4 reads it (`PiecewiseLinearSpectrum::Read`): (wavelength,
+/// value) pairs of numbers separated by white space, `#` comments; wavelengths increasing.
+fn spectrum_file(name: &str, loc: &Loc, main_folder: &Path) -> Result<Values, LoadError> {
+    let path = resolve(name, loc, main_folder);
+    let bytes = crate::ply::read_bytes(&path, "spectrum file", MAX_SPECTRUM_FILE_BYTES)?;
+    let text = String::from_utf8_lossy(&bytes);
+    let mut numbers = Vec::new();
+    for (i, line) in text.lines().enumerate() {
+        let line = line.split('#').next().unwrap_or("");
+        for word in line.split_whitespace() {
+            let x = word
+                .parse::<f64>()
+                .ok()
+                .filter(|x| x.is_finite())
+                .ok_or_else(|| {
+                    LoadError::parse(&path, i + 1, format!("`{word}` is not a number"))
+                })?;
+            numbers.push(x);
+        }
+    }
+    if numbers.len() < 2 || numbers.len() % 2 != 0 {
+        return Err(LoadError::parse(
+            &path,
+            0,
+            format!(
+                "{} numbers: a spectrum file holds (wavelength, value) pairs",
+                numbers.len()
+            ),
+        ));
+    }
+    Ok(Values::Numbers(numbers))
 }
 
 fn number(t: &Token, loc: &Loc, what: &str) -> Result<f64, LoadError> {
