@@ -2,7 +2,8 @@
 //!
 //! Scene format v1 (one YAML file, specified in `docs/scene-format.md`) and Wavefront OBJ/MTL
 //! meshes, loaded into a [`ppm_core::scene::Scene`]; and Mitsuba XML scenes with their OBJ,
-//! PLY and serialized meshes ([`mitsuba`], `docs/mitsuba.md`), chosen by the `.xml` extension.
+//! PLY and serialized meshes ([`mitsuba`], `docs/mitsuba.md`), chosen by the `.xml` extension;
+//! and pbrt-v4 scenes ([`pbrt`], `docs/pbrt.md`), chosen by `.pbrt`.
 //!
 //! Loading never panics on bad input: every problem becomes a [`LoadError`] whose message
 //! starts with the file and the line (and column) or field path, e.g.
@@ -29,6 +30,7 @@ pub mod mitsuba;
 pub mod mtl;
 mod nesting;
 pub mod obj;
+pub mod pbrt;
 pub mod ply;
 pub mod serialized;
 mod values;
@@ -111,7 +113,8 @@ pub fn load_scene_builder(path: &Path) -> Result<(SceneBuilder, Vec<String>), Lo
 }
 
 /// Like [`load_scene_builder`] with Mitsuba `$name` parameters. The importer is chosen by the
-/// extension: `.xml` is a Mitsuba scene (`docs/mitsuba.md`), anything else scene format v1.
+/// extension: `.xml` is a Mitsuba scene (`docs/mitsuba.md`), `.pbrt` a pbrt-v4 scene
+/// (`docs/pbrt.md`), anything else scene format v1.
 pub fn load_scene_builder_with_defines(
     path: &Path,
     defines: &[(String, String)],
@@ -121,6 +124,7 @@ pub fn load_scene_builder_with_defines(
         .map(|e| e.to_string_lossy().to_ascii_lowercase());
     match extension.as_deref() {
         Some("xml") => return mitsuba::load_mitsuba(path, defines),
+        Some("pbrt") => return pbrt::load_pbrt(path),
         Some("ply") | Some("serialized") => {
             return Err(LoadError::invalid(
                 path,

@@ -1,0 +1,169 @@
+//! `LightSource` (point, spot, distant) and `AreaLightSource "diffuse"` to ppm's lights and
+//! emission. Colours follow pbrt-v4's photometric normalisation (`spectrum.rs`): an `rgb`
+//! emission renders as that RGB, times `scale`; `power` (point, spot, area) and
+//! `illuminance` (distant) rescale as pbrt-v4's `*Light::Create` do, by the normalised
+//! spectrum's luminance-free k_e (so an RGB's own luminance is not divided out, as in
+//! pbrt-v4).
+
+use super::super::params::ParamSet;
+use super::super::scene::{Entity, LightEntity};
+use super::super::spectrum;
+use crate::LoadError;
+use glam::{DMat4, DVec3};
+use ppm_core::light::{Light, PointLight};
+use ppm_core::scene::SceneBuilder;
+use std::f64::consts::PI;
+
+/// The emission `name` of a light (default: the colour space's white, sRGB (1, 1, 1)),
+/// times `scale`.
+fn emission(p: &ParamSet, name: &str) -> Result<DVec3, LoadError> {
+    let rgb = match p.spectrum(name)? {
+        None => DVec3::ONE,
+        Some((v, param)) => spectrum::illuminant_rgb(&v).map_err(|e| p.error_at(param, e))?,
+    };
+    let scale = p.float("scale", 1.0)?;
+    if !(scale >= 0.0 && scale.is_finite()) {
+        return Err(p.error(format!("scale {scale} is negative")));
+    }
+    Ok(rgb * scale)
+}
+
+/// A positive `power`-like parameter, if given (pbrt-v4 ignores values <= 0).
+fn target(p: &ParamSet, name: &str) -> Result<Option<f64>, LoadError> {
+    Ok(p.float_opt(name)?.filter(|&v| v > 0.0))
+}
+
+fn finite(p: &ParamSet, c: DVec3) -> Result<glam::Vec3, LoadError> {
+    let c32 = c.as_vec3();
+    if !c32.is_finite() {
+        return Err(p.error("the emission is out of single-precision range"));
+    }
+    Ok(c32)
+}
+
+/// A light's world-space point, finite in single precision.
+fn place(p: &ParamSet, m: DMat4, name: &str, default: DVec3) -> Result<DVec3, LoadError> {
+    let x = m.transform_point3(p.point3(name, default)?);
+    if !x.as_vec3().is_finite() {
+        return Err(p.error(format!(
+            "`{name}` is out of single-precision range in the world"
+        )));
+    }
+    Ok(x)
+}
+
+/// Adds one `LightSource`; `mirror` is the world mirror of `camera.rs`.
+pub fn add_light(
+    light: &LightEntity,
+    mirror: DMat4,
+    builder: &mut SceneBuilder,
+) -> Result<(), LoadError> {
+    let e = &light.entity;
+    let p = ParamSet::new(
+        format!("LightSource \"{}\"", e.kind),
+        e.loc.clone(),
+        &e.params,
+        &light.defaults,
+    );
+    let m = mirror * light.ctm;
+    match e.kind.as_str() {
+        // Intensity I (W/sr) at `from`; power P gives I = P / (4 pi) per unit spectrum.
+        "point" => {
+            let mut intensity = emission(&p, "I")?;
+            if let Some(power) = target(&p, "power")? {
+                intensity *= power / (4.0 * PI);
+            }
+            let position = place(&p, m, "from", DVec3::ZERO)?;
+            p.finish()?;
+            builder.add_point_light(PointLight {
+                position: position.as_vec3(),
+                intensity: finite(&p, intensity)?,
+            });
+        }
+        // pbrt-v4's spot: intensity I on the axis `from` -> `to`, smoothstep falloff from
+        // coneangle - conedeltaangle to coneangle; power P gives I = P / k_e with
+        // k_e = 2 pi ((1 - cos start) + (cos start - cos end) / 2).
+        "spot" => {
+            let mut intensity = emission(&p, "I")?;
+            let cone = p.float("coneangle", 30.0)?;
+            let delta = p.float("conedeltaangle", 5.0)?;
+            if !(cone > 0.0 && cone <= 180.0 && delta >= 0.0 && delta <= cone) {
+                return Err(p.error(format!(
+                    "coneangle {cone} and conedeltaangle {delta}: expected 0 < coneangle <= 180 and 0 <= conedeltaangle <= coneangle"
+                )));
+            }
+            let (end, start) = (cone.to_radians(), (cone - delta).to_radians());
+            if let Some(power) = target(&p, "power")? {
+                let k_e = 2.0 * PI * ((1.0 - start.cos()) + (start.cos() - end.cos()) / 2.0);
+                intensity *= power / k_e;
+            }
+            let from = place(&p, m, "from", DVec3::ZERO)?;
+            let to = place(&p, m, "to", DVec3::Z)?;
+            p.finish()?;
+            let light = Light::spot(
+                from.as_vec3(),
+                (to - from).as_vec3(),
+                finite(&p, intensity)?,
+                end as f32,
+                start as f32,
+            )
+            .ok_or_else(|| p.error("from equals to"))?;
+            builder.add_light(light);
+        }
+        // Radiance L arriving from `from` - `to` (light travels from -> to): irradiance
+        // scale L on a surface facing it; `illuminance` E multiplies it by E.
+        "distant" => {
+            let mut irradiance = emission(&p, "L")?;
+            if let Some(e_v) = target(&p, "illuminance")? {
+                irradiance *= e_v;
+            }
+            let from = place(&p, m, "from", DVec3::ZERO)?;
+            let to = place(&p, m, "to", DVec3::Z)?;
+            p.finish()?;
+            let light = Light::directional((to - from).as_vec3(), finite(&p, irradiance)?)
+                .ok_or_else(|| p.error("from equals to"))?;
+            builder.add_light(light);
+        }
+        "infinite" => {
+            return Err(p.error("an environment light is not supported yet"));
+        }
+        _ => {
+            return Err(
+                p.error("light type not supported yet (point, spot, distant and area lights are)")
+            )
+        }
+    }
+    Ok(())
+}
+
+/// The radiance of an `AreaLightSource "diffuse"` on a shape of world-space `area`:
+/// L times `scale`, or scaled to `power` P as pbrt-v4 does, L P / (pi area). One-sided, on
+/// the side the shape's normal faces, as pbrt-v4's default.
+pub fn area_radiance(e: &Entity, area: f64) -> Result<glam::Vec3, LoadError> {
+    let p = ParamSet::new(
+        format!("AreaLightSource \"{}\"", e.kind),
+        e.loc.clone(),
+        &e.params,
+        &[],
+    );
+    if e.kind != "diffuse" {
+        return Err(p.error("not supported yet (only diffuse is)"));
+    }
+    if p.bool("twosided", false)? {
+        return Err(p.error(
+            "twosided area lights are not supported yet (ppm's area lights emit on the side the normal faces)",
+        ));
+    }
+    if p.string_opt("filename")?.is_some() {
+        return Err(p.error("image area lights (filename) are not supported yet"));
+    }
+    let mut le = emission(&p, "L")?;
+    if let Some(power) = target(&p, "power")? {
+        if area.is_nan() || area <= 0.0 {
+            return Err(p.error("power given for a shape of no area"));
+        }
+        le *= power / (PI * area);
+    }
+    p.finish()?;
+    finite(&p, le)
+}

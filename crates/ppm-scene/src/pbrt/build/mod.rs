@@ -1,0 +1,269 @@
+//! The build layer: a [`Description`] to ppm's [`SceneBuilder`], one module per entity kind
+//! (`camera.rs` with the film, `material.rs`, `shape.rs`, `light.rs`); the render settings
+//! (`Integrator`, `Sampler`, `PixelFilter`, `Option`) here.
+
+mod camera;
+mod light;
+mod material;
+mod shape;
+
+use super::params::ParamSet;
+use super::scene::{Description, MaterialEntity, MaterialRef, ShapeEntity};
+use crate::LoadError;
+use glam::{DMat4, Vec3};
+use ppm_core::bsdf::Bsdf;
+use ppm_core::integrator::MAX_DEPTH;
+use ppm_core::material::Material;
+use ppm_core::scene::{RenderDefaults, SceneBuilder};
+use shape::{Geometry, PlyCache};
+use std::collections::HashMap;
+
+/// pbrt-v4's default path depth (its default integrator is `volpath`, maxdepth 5).
+const DEFAULT_MAX_DEPTH: i64 = 5;
+
+/// Most triangles a scene may expand to (instances are copied).
+pub const MAX_TRIANGLES: usize = 1 << 28;
+
+/// Assembles the scene `desc` describes.
+pub fn build(desc: &Description, warnings: &mut Vec<String>) -> Result<SceneBuilder, LoadError> {
+    let path = desc.main_folder.join("scene");
+    let file = desc
+        .camera
+        .as_ref()
+        .map(|(e, _)| e.loc.file.to_path_buf())
+        .or_else(|| desc.shapes.first().map(|s| s.entity.loc.file.to_path_buf()))
+        .unwrap_or(path);
+    let (camera, mirror) = camera::camera(desc, &file, warnings)?;
+    let mut builder = SceneBuilder::new(camera);
+    builder.defaults = RenderDefaults {
+        max_depth: max_depth(desc, warnings)?,
+        ..RenderDefaults::default()
+    };
+    settings_warnings(desc, warnings)?;
+
+    let mut materials: HashMap<MaterialKey, (u32, Bsdf)> = HashMap::new();
+    let mut cache = PlyCache::default();
+    let mut triangles = 0usize;
+    for s in &desc.shapes {
+        let geometry = shape::geometry(s, mirror * s.ctm, &desc.main_folder, &mut cache, warnings)?;
+        let (index, bsdf) = material_of(desc, s, &mut materials, &mut builder, warnings)?;
+        let material = match &s.area_light {
+            None => index,
+            Some(light) => {
+                let area = match &geometry {
+                    Geometry::Mesh(m) => mesh_area(m),
+                    Geometry::Sphere(sp) => sp.area() as f64,
+                };
+                let le = light::area_radiance(light, area)?;
+                builder.add_material(
+                    Material::new(bsdf, le).named(format!("area light ({})", s.entity.loc)),
+                )
+            }
+        };
+        match geometry {
+            Geometry::Sphere(mut sp) => {
+                sp.material = material;
+                builder.add_sphere(sp);
+            }
+            Geometry::Mesh(mut mesh) => {
+                triangles += mesh.indices.len();
+                if triangles > MAX_TRIANGLES {
+                    return Err(s.entity.loc.error(format!(
+                        "the scene has more than {MAX_TRIANGLES} triangles (instances are copied)"
+                    )));
+                }
+                mesh.materials.iter_mut().for_each(|m| *m = material);
+                builder.add_mesh(mesh);
+            }
+        }
+    }
+    for l in &desc.lights {
+        light::add_light(l, mirror, &mut builder)?;
+    }
+    // Materials no shape uses are still checked, as pbrt-v4 creates them all.
+    for (i, m) in desc.materials.iter().enumerate() {
+        if !materials.contains_key(&MaterialKey::Anonymous(i)) {
+            material::bsdf(desc, m, &mut Vec::new())?;
+        }
+    }
+    for (name, m) in &desc.named_materials {
+        if !materials.contains_key(&MaterialKey::Named(name.clone())) {
+            material::bsdf(desc, m, &mut Vec::new())?;
+            warnings.push(format!(
+                "{}: material \"{name}\" is never used",
+                m.entity.loc
+            ));
+        }
+    }
+    let emits = |m: u32| builder.materials[m as usize].is_emissive();
+    let has_light = !builder.lights.is_empty()
+        || builder.spheres.iter().any(|s| emits(s.material))
+        || builder
+            .meshes
+            .iter()
+            .any(|mesh| mesh.materials.iter().any(|&m| emits(m)));
+    if !has_light {
+        warnings.push(format!(
+            "{}: the scene has no light ppm renders: the image will be black",
+            file.display()
+        ));
+    }
+    Ok(builder)
+}
+
+/// A material as shapes name it.
+#[derive(Clone, PartialEq, Eq, Hash)]
+enum MaterialKey {
+    Anonymous(usize),
+    Named(String),
+}
+
+/// The shape's ppm material (without emission), built once per pbrt material, and its BSDF.
+fn material_of(
+    desc: &Description,
+    s: &ShapeEntity,
+    materials: &mut HashMap<MaterialKey, (u32, Bsdf)>,
+    builder: &mut SceneBuilder,
+    warnings: &mut Vec<String>,
+) -> Result<(u32, Bsdf), LoadError> {
+    let (key, entity): (MaterialKey, &MaterialEntity) = match &s.material {
+        MaterialRef::Anonymous(i) => (MaterialKey::Anonymous(*i), &desc.materials[*i]),
+        MaterialRef::Named(name, loc) => (
+            MaterialKey::Named(name.clone()),
+            desc.named_materials
+                .get(name)
+                .ok_or_else(|| loc.error(format!("NamedMaterial: no material \"{name}\"")))?,
+        ),
+    };
+    if let Some(&found) = materials.get(&key) {
+        return Ok(found);
+    }
+    let bsdf = material::bsdf(desc, entity, warnings)?;
+    let name = match &entity.name {
+        Some(n) => n.clone(),
+        None => format!("{} ({})", entity.entity.kind, entity.entity.loc),
+    };
+    let index = builder.add_material(Material::new(bsdf, Vec3::ZERO).named(name));
+    materials.insert(key, (index, bsdf));
+    Ok((index, bsdf))
+}
+
+/// The area of a mesh in double precision.
+fn mesh_area(m: &ppm_core::geometry::TriangleMesh) -> f64 {
+    m.indices
+        .iter()
+        .map(|t| {
+            let [a, b, c] = t.map(|i| m.positions[i as usize].as_dvec3());
+            0.5 * (b - a).cross(c - a).length()
+        })
+        .sum()
+}
+
+/// ppm's path depth from the `Integrator`'s `maxdepth`: pbrt-v4 counts bounces as ppm does
+/// (maxdepth 1 is direct lighting, 0 the lights alone). Any pbrt integrator is accepted:
+/// ppm's algorithm is what `-a` chooses.
+fn max_depth(desc: &Description, warnings: &mut Vec<String>) -> Result<u32, LoadError> {
+    let Some(e) = &desc.integrator else {
+        return Ok(DEFAULT_MAX_DEPTH as u32);
+    };
+    let p = ParamSet::new(
+        format!("Integrator \"{}\"", e.kind),
+        e.loc.clone(),
+        &e.params,
+        &[],
+    );
+    if matches!(e.kind.as_str(), "ambientocclusion" | "aov" | "function") {
+        return Err(p.error("not supported (ppm renders light transport)"));
+    }
+    let depth = p.int("maxdepth", DEFAULT_MAX_DEPTH)?;
+    let ignored: Vec<&str> = [
+        "regularize",
+        "lightsampler",
+        "photonsperiteration",
+        "radius",
+        "iterations",
+        "seed",
+        "bootstrapsamples",
+        "chains",
+        "mutationsperpixel",
+        "largestepprobability",
+        "sigma",
+        "visualizestrategies",
+        "visualizeweights",
+        "samplelights",
+        "samplebsdf",
+    ]
+    .into_iter()
+    .filter(|n| p.has(n))
+    .collect();
+    p.ignore(&ignored);
+    if !ignored.is_empty() {
+        warnings.push(format!(
+            "{}: {}: {} not used: ppm's algorithm and its settings come from the command line",
+            e.loc,
+            p.what,
+            ignored.join(", ")
+        ));
+    }
+    p.finish()?;
+    if depth < 0 {
+        return Err(p.error(format!("maxdepth {depth} is negative")));
+    }
+    if depth > MAX_DEPTH as i64 {
+        warnings.push(format!(
+            "{}: maxdepth {depth} is above the supported {MAX_DEPTH}; using {MAX_DEPTH}",
+            e.loc
+        ));
+    }
+    Ok(depth.min(MAX_DEPTH as i64) as u32)
+}
+
+/// `Sampler`, `PixelFilter`, `Accelerator` and `Option`: nothing of them changes ppm's image
+/// but the sample count and filter, which are warned about.
+fn settings_warnings(desc: &Description, warnings: &mut Vec<String>) -> Result<(), LoadError> {
+    if let Some(e) = &desc.sampler {
+        let p = ParamSet::new(
+            format!("Sampler \"{}\"", e.kind),
+            e.loc.clone(),
+            &e.params,
+            &[],
+        );
+        if p.has("pixelsamples") {
+            let n = p.int("pixelsamples", 16)?;
+            warnings.push(format!(
+                "{}: Sampler: pixelsamples {n} is not used: ppm's -n sets the iterations, and its sampling is its own",
+                e.loc
+            ));
+        }
+        p.ignore(&[
+            "seed",
+            "dimensions",
+            "jitter",
+            "randomization",
+            "xsamples",
+            "ysamples",
+        ]);
+        p.finish()?;
+    }
+    if let Some(e) = &desc.filter {
+        let p = ParamSet::new(
+            format!("PixelFilter \"{}\"", e.kind),
+            e.loc.clone(),
+            &e.params,
+            &[],
+        );
+        p.ignore(&["xradius", "yradius", "sigma", "alpha", "B", "C", "tau"]);
+        p.finish()?;
+        if e.kind != "box" {
+            warnings.push(format!(
+                "{}: PixelFilter \"{}\" is not used: ppm averages each pixel's samples (a box filter)",
+                e.loc, e.kind
+            ));
+        }
+    }
+    for o in &desc.options {
+        warnings.push(format!("{}: Option {} is not used", o.loc, o.decl()));
+    }
+    let _ = DMat4::IDENTITY;
+    Ok(())
+}
