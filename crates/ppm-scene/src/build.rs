@@ -2,10 +2,11 @@
 //! fields a type takes, material names, camera geometry) and the mapping to ppm-core types.
 
 use crate::error::LoadError;
+use crate::fov::{focal_length_fov, vertical_fov, FovAxis};
 use crate::materials;
 use crate::obj::{self, ObjMaterials};
 use crate::yaml::{
-    LightDesc, LightType, MaterialDesc, MaterialType, ObjectDesc, ObjectType, SceneFile,
+    CameraDesc, LightDesc, LightType, MaterialDesc, MaterialType, ObjectDesc, ObjectType, SceneFile,
 };
 use glam::{DVec3, Vec3};
 use ppm_core::bsdf::{Bsdf, Phong};
@@ -46,14 +47,26 @@ pub fn build(
     } else {
         DVec3::ZERO
     };
+    let position = c.position.relative_to(origin);
+    let look_at = c.look_at.relative_to(origin);
     let camera = Camera::new(
-        c.position.relative_to(origin),
-        c.look_at.relative_to(origin),
+        position,
+        look_at,
         c.up.value(),
-        c.fov.0,
+        camera_fov(c, resolution, path)?,
         resolution,
     )
     .map_err(|e| LoadError::invalid(path, "camera", e.to_string()))?;
+    // A zero (default) aperture keeps the pinhole; the focus defaults to the look_at point's
+    // distance along the view direction.
+    let aperture = c.aperture_radius.as_ref().map_or(0.0, |r| r.0);
+    let focus = c
+        .focus_distance
+        .as_ref()
+        .map_or_else(|| (look_at - position).length(), |f| f.0);
+    let camera = camera
+        .with_lens(aperture, focus)
+        .map_err(|e| LoadError::invalid(path, "camera.aperture_radius", e.to_string()))?;
     let mut builder = SceneBuilder::new(camera);
     builder.world_offset = origin.as_vec3();
 
@@ -500,4 +513,42 @@ pub(crate) fn check_fields(
         )),
         None => Ok(()),
     }
+}
+
+/// The vertical field of view, degrees, of `camera:`: `fov` along `fov_axis` (default y, so a
+/// bare `fov` keeps its meaning and its exact value), or `focal_length` (mm on 36 x 24 mm
+/// film, the diagonal), converted for the image's aspect ratio.
+fn camera_fov(c: &CameraDesc, (width, height): (u32, u32), path: &Path) -> Result<f32, LoadError> {
+    let aspect = width as f64 / height as f64;
+    let (fov, axis) = match (
+        c.fov.as_ref().map(|f| f.0),
+        c.focal_length.as_ref().map(|f| f.0),
+        c.fov_axis,
+    ) {
+        (Some(_), Some(_), _) => {
+            return Err(LoadError::invalid(
+                path,
+                "camera.focal_length",
+                "give either `fov` or `focal_length`, not both",
+            ))
+        }
+        (None, None, _) => {
+            return Err(LoadError::invalid(
+                path,
+                "camera.fov",
+                "missing: give `fov` (degrees) or `focal_length` (mm)",
+            ))
+        }
+        (None, Some(_), Some(_)) => {
+            return Err(LoadError::invalid(
+                path,
+                "camera.fov_axis",
+                "applies to `fov`; a `focal_length` spans the film diagonal",
+            ))
+        }
+        (Some(fov), None, None | Some(FovAxis::Y)) => return Ok(fov),
+        (Some(fov), None, Some(axis)) => (fov as f64, axis),
+        (None, Some(mm), _) => (focal_length_fov(mm as f64), FovAxis::Diagonal),
+    };
+    Ok(vertical_fov(fov, axis, aspect) as f32)
 }

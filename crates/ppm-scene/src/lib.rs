@@ -21,6 +21,7 @@
 mod build;
 mod content_hash;
 mod error;
+pub mod fov;
 pub mod ior;
 mod light_area;
 mod light_placement;
