@@ -5,10 +5,12 @@ use crate::error::LoadError;
 use crate::fov::{focal_length_fov, vertical_fov, FovAxis};
 use crate::materials;
 use crate::obj::{self, ObjMaterials};
+use crate::object_transform::object_matrix;
+use crate::placement::{place_mesh, place_sphere, PlacementError};
 use crate::yaml::{
     CameraDesc, LightDesc, LightType, MaterialDesc, MaterialType, ObjectDesc, ObjectType, SceneFile,
 };
-use glam::{DVec3, Vec3};
+use glam::{DMat4, DVec3, Vec3};
 use ppm_core::bsdf::{Bsdf, Phong};
 use ppm_core::camera::Camera;
 use ppm_core::geometry::{Sphere, TriangleMesh};
@@ -121,15 +123,33 @@ pub fn build(
             Some(name) => Some(lookup(name, &format!("{field}.material"), &mut used)?),
             None => None,
         };
+        // The object's transform, followed by the move to camera-relative coordinates.
+        let placement = match &o.transform {
+            Some(steps) => {
+                Some(DMat4::from_translation(-origin) * object_matrix(steps, &field, path)?)
+            }
+            None => None,
+        };
+        let misplaced = |e: PlacementError| {
+            LoadError::invalid(
+                path,
+                format!("{field}.transform"),
+                e.describe("the transform"),
+            )
+        };
         match o.kind {
             ObjectType::Mesh => {
                 let file = o.file.as_deref().ok_or_else(|| need("file"))?;
-                add_mesh(&mut builder, path, &field, file, material, origin, warnings)?;
+                let at = MeshPlacement { origin, placement };
+                add_mesh(&mut builder, path, &field, file, material, at, warnings)?;
             }
             ObjectType::Sphere => {
                 let center = o.center.as_ref().ok_or_else(|| need("center"))?;
-                let center = center.relative_to(origin);
                 let radius = o.radius.as_ref().ok_or_else(|| need("radius"))?.0;
+                let (center, radius) = match placement {
+                    Some(m) => place_sphere(center.0, radius as f64, m).map_err(misplaced)?,
+                    None => (center.relative_to(origin), radius),
+                };
                 let sphere = Sphere::new(center, radius, material.ok_or_else(|| need("material"))?);
                 builder.add_sphere(if o.inward == Some(true) {
                     sphere.inward()
@@ -139,7 +159,10 @@ pub fn build(
             }
             ObjectType::Quad => {
                 let corner = o.corner.as_ref().ok_or_else(|| need("corner"))?;
-                let corner = corner.relative_to(origin);
+                let corner = match placement {
+                    Some(_) => corner.value(),
+                    None => corner.relative_to(origin),
+                };
                 let u = o.edge_u.as_ref().ok_or_else(|| need("edge_u"))?.value();
                 let v = o.edge_v.as_ref().ok_or_else(|| need("edge_v"))?.value();
                 let m = material.ok_or_else(|| need("material"))?;
@@ -151,7 +174,11 @@ pub fn build(
                         "edge_u and edge_v are zero or parallel: the quad has no area",
                     ));
                 }
-                builder.add_mesh(TriangleMesh::quad(corner, u, v, m));
+                let mut quad = TriangleMesh::quad(corner, u, v, m);
+                if let Some(m) = placement {
+                    place_mesh(&mut quad, m, false).map_err(misplaced)?;
+                }
+                builder.add_mesh(quad);
             }
         }
     }
@@ -342,6 +369,14 @@ fn light_type_name(kind: LightType) -> &'static str {
     }
 }
 
+/// Where a mesh file's points go: made relative to `origin` as written, or moved by
+/// `placement` (the object's transform, ending with the move relative to `origin`).
+#[derive(Clone, Copy)]
+struct MeshPlacement {
+    origin: DVec3,
+    placement: Option<DMat4>,
+}
+
 /// Loads an OBJ and adds its meshes, with `material` for everything or its MTL materials.
 fn add_mesh(
     builder: &mut SceneBuilder,
@@ -349,9 +384,15 @@ fn add_mesh(
     field: &str,
     file: &str,
     material: Option<u32>,
-    origin: DVec3,
+    at: MeshPlacement,
     warnings: &mut Vec<String>,
 ) -> Result<(), LoadError> {
+    // With a transform the file's points stay as written until the transform (which ends
+    // with the camera-relative move) takes them to the world.
+    let origin = match at.placement {
+        Some(_) => DVec3::ZERO,
+        None => at.origin,
+    };
     let obj_path = scene.parent().unwrap_or(Path::new("")).join(file);
     let policy = if material.is_some() {
         ObjMaterials::Ignore
@@ -374,6 +415,21 @@ fn add_mesh(
     for mut mesh in data.meshes {
         for m in &mut mesh.materials {
             *m = material.unwrap_or(*m + offset);
+        }
+        if let Some(m) = at.placement {
+            let normals_ok = place_mesh(&mut mesh, m, false).map_err(|e| {
+                LoadError::invalid(
+                    scene,
+                    format!("{field}.transform"),
+                    e.describe("the transform"),
+                )
+            })?;
+            if !normals_ok {
+                warnings.push(format!(
+                    "{}: {field}.transform: some vertex normals of {file} become zero or not finite; using the faces' normals",
+                    scene.display()
+                ));
+            }
         }
         builder.add_mesh(mesh);
     }

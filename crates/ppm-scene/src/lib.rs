@@ -30,6 +30,8 @@ pub mod mitsuba;
 pub mod mtl;
 mod nesting;
 pub mod obj;
+mod object_transform;
+pub mod placement;
 pub mod ply;
 pub mod serialized;
 mod values;

@@ -119,6 +119,8 @@ pub struct ObjectDesc {
     pub corner: Option<Point>,
     pub edge_u: Option<Point>,
     pub edge_v: Option<Point>,
+    /// Steps placing the object, applied in order (any type).
+    pub transform: Option<Vec<crate::object_transform::TransformStep>>,
 }
 
 /// The light types (lights without geometry).

@@ -130,6 +130,16 @@ fn every_kind_of_content_changes_the_fingerprint() {
         ),
         ("a sphere", "radius: 0.1", "radius: 0.11"),
         (
+            "a mesh's transform",
+            "file: tri.obj, material: white }",
+            "file: tri.obj, material: white, transform: [{ rotate: { axis: [0, 1, 0], angle: 5 } }] }",
+        ),
+        (
+            "a sphere's transform",
+            "radius: 0.1, material: lamp }",
+            "radius: 0.1, material: lamp, transform: [{ translate: [0, 0.01, 0] }] }",
+        ),
+        (
             "the point light's position",
             "[0, 1.9, 0], intensity: [1",
             "[0, 1.8, 0], intensity: [1",
