@@ -1,7 +1,9 @@
-//! The pinhole camera of scene format v1.
+//! The camera of scene format v1: a pinhole, or a thin lens ([`lens`]).
 //!
 //! Conventions: right-handed world; looking down -z with +y up, world +x is on the right of the
 //! image; pixel (0, 0) is the top-left pixel; `fov` is the vertical field of view in degrees.
+
+mod lens;
 
 use crate::geometry::Ray;
 use crate::SceneError;
@@ -10,7 +12,8 @@ use glam::{Vec2, Vec3};
 /// Largest accepted image side, in pixels.
 pub const MAX_RESOLUTION: u32 = 1 << 14;
 
-/// A pinhole camera and the image resolution it renders to.
+/// A pinhole or thin-lens camera and the image resolution it renders to. A new camera is a
+/// pinhole; [`Camera::with_lens`] gives it a lens.
 #[derive(Clone, Copy, Debug)]
 pub struct Camera {
     pub position: Vec3,
@@ -20,6 +23,10 @@ pub struct Camera {
     forward: Vec3,
     /// tan(fov / 2): half-height of the image plane at distance 1.
     tan_half_fov: f32,
+    /// Radius of the thin lens's aperture disk (0: a pinhole).
+    lens_radius: f32,
+    /// Distance along `forward` from the lens to the plane in focus.
+    focus_distance: f32,
     pub width: u32,
     pub height: u32,
 }
@@ -62,6 +69,8 @@ impl Camera {
             up: Vec3::ZERO,
             forward,
             tan_half_fov: (fov_degrees.to_radians() * 0.5).tan(),
+            lens_radius: 0.0,
+            focus_distance: 1.0,
             width: 1,
             height: 1,
         };

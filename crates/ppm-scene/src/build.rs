@@ -2,12 +2,15 @@
 //! fields a type takes, material names, camera geometry) and the mapping to ppm-core types.
 
 use crate::error::LoadError;
+use crate::fov::{focal_length_fov, vertical_fov, FovAxis};
 use crate::materials;
 use crate::obj::{self, ObjMaterials};
+use crate::object_transform::object_matrix;
+use crate::placement::{place_mesh, place_sphere, PlacementError};
 use crate::yaml::{
-    LightDesc, LightType, MaterialDesc, MaterialType, ObjectDesc, ObjectType, SceneFile,
+    CameraDesc, LightDesc, LightType, MaterialDesc, MaterialType, ObjectDesc, ObjectType, SceneFile,
 };
-use glam::{DVec3, Vec3};
+use glam::{DMat4, DVec3, Vec3};
 use ppm_core::bsdf::{Bsdf, Phong};
 use ppm_core::camera::Camera;
 use ppm_core::geometry::{Sphere, TriangleMesh};
@@ -46,14 +49,26 @@ pub fn build(
     } else {
         DVec3::ZERO
     };
+    let position = c.position.relative_to(origin);
+    let look_at = c.look_at.relative_to(origin);
     let camera = Camera::new(
-        c.position.relative_to(origin),
-        c.look_at.relative_to(origin),
+        position,
+        look_at,
         c.up.value(),
-        c.fov.0,
+        camera_fov(c, resolution, path)?,
         resolution,
     )
     .map_err(|e| LoadError::invalid(path, "camera", e.to_string()))?;
+    // A zero (default) aperture keeps the pinhole; the focus defaults to the look_at point's
+    // distance along the view direction.
+    let aperture = c.aperture_radius.as_ref().map_or(0.0, |r| r.0);
+    let focus = c
+        .focus_distance
+        .as_ref()
+        .map_or_else(|| (look_at - position).length(), |f| f.0);
+    let camera = camera
+        .with_lens(aperture, focus)
+        .map_err(|e| LoadError::invalid(path, "camera.aperture_radius", e.to_string()))?;
     let mut builder = SceneBuilder::new(camera);
     builder.world_offset = origin.as_vec3();
 
@@ -108,15 +123,33 @@ pub fn build(
             Some(name) => Some(lookup(name, &format!("{field}.material"), &mut used)?),
             None => None,
         };
+        // The object's transform, followed by the move to camera-relative coordinates.
+        let placement = match &o.transform {
+            Some(steps) => {
+                Some(DMat4::from_translation(-origin) * object_matrix(steps, &field, path)?)
+            }
+            None => None,
+        };
+        let misplaced = |e: PlacementError| {
+            LoadError::invalid(
+                path,
+                format!("{field}.transform"),
+                e.describe("the transform"),
+            )
+        };
         match o.kind {
             ObjectType::Mesh => {
                 let file = o.file.as_deref().ok_or_else(|| need("file"))?;
-                add_mesh(&mut builder, path, &field, file, material, origin, warnings)?;
+                let at = MeshPlacement { origin, placement };
+                add_mesh(&mut builder, path, &field, file, material, at, warnings)?;
             }
             ObjectType::Sphere => {
                 let center = o.center.as_ref().ok_or_else(|| need("center"))?;
-                let center = center.relative_to(origin);
                 let radius = o.radius.as_ref().ok_or_else(|| need("radius"))?.0;
+                let (center, radius) = match placement {
+                    Some(m) => place_sphere(center.0, radius as f64, m).map_err(misplaced)?,
+                    None => (center.relative_to(origin), radius),
+                };
                 let sphere = Sphere::new(center, radius, material.ok_or_else(|| need("material"))?);
                 builder.add_sphere(if o.inward == Some(true) {
                     sphere.inward()
@@ -126,7 +159,10 @@ pub fn build(
             }
             ObjectType::Quad => {
                 let corner = o.corner.as_ref().ok_or_else(|| need("corner"))?;
-                let corner = corner.relative_to(origin);
+                let corner = match placement {
+                    Some(_) => corner.value(),
+                    None => corner.relative_to(origin),
+                };
                 let u = o.edge_u.as_ref().ok_or_else(|| need("edge_u"))?.value();
                 let v = o.edge_v.as_ref().ok_or_else(|| need("edge_v"))?.value();
                 let m = material.ok_or_else(|| need("material"))?;
@@ -138,7 +174,11 @@ pub fn build(
                         "edge_u and edge_v are zero or parallel: the quad has no area",
                     ));
                 }
-                builder.add_mesh(TriangleMesh::quad(corner, u, v, m));
+                let mut quad = TriangleMesh::quad(corner, u, v, m);
+                if let Some(m) = placement {
+                    place_mesh(&mut quad, m, false).map_err(misplaced)?;
+                }
+                builder.add_mesh(quad);
             }
         }
     }
@@ -329,6 +369,14 @@ fn light_type_name(kind: LightType) -> &'static str {
     }
 }
 
+/// Where a mesh file's points go: made relative to `origin` as written, or moved by
+/// `placement` (the object's transform, ending with the move relative to `origin`).
+#[derive(Clone, Copy)]
+struct MeshPlacement {
+    origin: DVec3,
+    placement: Option<DMat4>,
+}
+
 /// Loads an OBJ and adds its meshes, with `material` for everything or its MTL materials.
 fn add_mesh(
     builder: &mut SceneBuilder,
@@ -336,9 +384,15 @@ fn add_mesh(
     field: &str,
     file: &str,
     material: Option<u32>,
-    origin: DVec3,
+    at: MeshPlacement,
     warnings: &mut Vec<String>,
 ) -> Result<(), LoadError> {
+    // With a transform the file's points stay as written until the transform (which ends
+    // with the camera-relative move) takes them to the world.
+    let origin = match at.placement {
+        Some(_) => DVec3::ZERO,
+        None => at.origin,
+    };
     let obj_path = scene.parent().unwrap_or(Path::new("")).join(file);
     let policy = if material.is_some() {
         ObjMaterials::Ignore
@@ -361,6 +415,21 @@ fn add_mesh(
     for mut mesh in data.meshes {
         for m in &mut mesh.materials {
             *m = material.unwrap_or(*m + offset);
+        }
+        if let Some(m) = at.placement {
+            let normals_ok = place_mesh(&mut mesh, m, false).map_err(|e| {
+                LoadError::invalid(
+                    scene,
+                    format!("{field}.transform"),
+                    e.describe("the transform"),
+                )
+            })?;
+            if !normals_ok {
+                warnings.push(format!(
+                    "{}: {field}.transform: some vertex normals of {file} become zero or not finite; using the faces' normals",
+                    scene.display()
+                ));
+            }
         }
         builder.add_mesh(mesh);
     }
@@ -500,4 +569,42 @@ pub(crate) fn check_fields(
         )),
         None => Ok(()),
     }
+}
+
+/// The vertical field of view, degrees, of `camera:`: `fov` along `fov_axis` (default y, so a
+/// bare `fov` keeps its meaning and its exact value), or `focal_length` (mm on 36 x 24 mm
+/// film, the diagonal), converted for the image's aspect ratio.
+fn camera_fov(c: &CameraDesc, (width, height): (u32, u32), path: &Path) -> Result<f32, LoadError> {
+    let aspect = width as f64 / height as f64;
+    let (fov, axis) = match (
+        c.fov.as_ref().map(|f| f.0),
+        c.focal_length.as_ref().map(|f| f.0),
+        c.fov_axis,
+    ) {
+        (Some(_), Some(_), _) => {
+            return Err(LoadError::invalid(
+                path,
+                "camera.focal_length",
+                "give either `fov` or `focal_length`, not both",
+            ))
+        }
+        (None, None, _) => {
+            return Err(LoadError::invalid(
+                path,
+                "camera.fov",
+                "missing: give `fov` (degrees) or `focal_length` (mm)",
+            ))
+        }
+        (None, Some(_), Some(_)) => {
+            return Err(LoadError::invalid(
+                path,
+                "camera.fov_axis",
+                "applies to `fov`; a `focal_length` spans the film diagonal",
+            ))
+        }
+        (Some(fov), None, None | Some(FovAxis::Y)) => return Ok(fov),
+        (Some(fov), None, Some(axis)) => (fov as f64, axis),
+        (None, Some(mm), _) => (focal_length_fov(mm as f64), FovAxis::Diagonal),
+    };
+    Ok(vertical_fov(fov, axis, aspect) as f32)
 }

@@ -161,15 +161,24 @@ impl Fingerprint {
 
     fn camera(&mut self, c: &Camera) {
         let (right, up, forward, tan_half_fov) = c.frame();
-        self.record("Camera")
+        let record = self
+            .record("Camera")
             .field("position", |f| f.vec3(c.position))
             .field("right", |f| f.vec3(right))
             .field("up", |f| f.vec3(up))
             .field("forward", |f| f.vec3(forward))
             .field("tan_half_fov", |f| f.f32(tan_half_fov))
             .field("width", |f| f.u32(c.width))
-            .field("height", |f| f.u32(c.height))
-            .end();
+            .field("height", |f| f.u32(c.height));
+        // A pinhole writes no lens, so pinhole scenes keep the fingerprint they always had.
+        let record = if c.is_pinhole() {
+            record
+        } else {
+            record
+                .field("lens_radius", |f| f.f32(c.lens_radius()))
+                .field("focus_distance", |f| f.f32(c.focus_distance()))
+        };
+        record.end();
     }
 
     fn material(&mut self, m: &Material) {

@@ -22,6 +22,7 @@
 mod build;
 mod content_hash;
 mod error;
+pub mod fov;
 pub mod ior;
 mod light_area;
 mod light_placement;
@@ -30,7 +31,9 @@ pub mod mitsuba;
 pub mod mtl;
 mod nesting;
 pub mod obj;
+mod object_transform;
 pub mod pbrt;
+pub mod placement;
 pub mod ply;
 pub mod serialized;
 mod values;

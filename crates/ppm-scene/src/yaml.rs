@@ -27,15 +27,23 @@ pub struct SceneFile {
     pub render: Option<RenderDesc>,
 }
 
-/// `camera:` a pinhole camera.
+/// `camera:` a pinhole or thin-lens camera.
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct CameraDesc {
     pub position: Point,
     pub look_at: Point,
     pub up: Point,
-    /// Vertical field of view in degrees.
-    pub fov: Num<FieldOfView>,
+    /// Field of view in degrees along `fov_axis`; either this or `focal_length`.
+    pub fov: Option<Num<FieldOfView>>,
+    /// The axis `fov` spans (default `y`).
+    pub fov_axis: Option<crate::fov::FovAxis>,
+    /// Focal length in mm on 36 x 24 mm film (the diagonal field of view).
+    pub focal_length: Option<Num<Positive>>,
+    /// Radius of the thin lens's aperture (default 0, a pinhole).
+    pub aperture_radius: Option<Num<NonNegative>>,
+    /// Distance to the plane in focus (default: from `position` to `look_at`).
+    pub focus_distance: Option<Num<Positive>>,
 }
 
 /// `materials:` name -> material, in file order; a repeated name is an error.
@@ -111,6 +119,8 @@ pub struct ObjectDesc {
     pub corner: Option<Point>,
     pub edge_u: Option<Point>,
     pub edge_v: Option<Point>,
+    /// Steps placing the object, applied in order (any type).
+    pub transform: Option<Vec<crate::object_transform::TransformStep>>,
 }
 
 /// The light types (lights without geometry).

@@ -109,6 +109,17 @@ fn every_kind_of_content_changes_the_fingerprint() {
     let edits = [
         ("camera", "position: [0, 1, 3.9]", "position: [0, 1, 3.8]"),
         ("field of view", "fov: 38", "fov: 39"),
+        (
+            "the field of view's axis",
+            "fov: 38",
+            "fov: 38, fov_axis: x",
+        ),
+        ("an aperture", "fov: 38", "fov: 38, aperture_radius: 0.1"),
+        (
+            "the focus distance",
+            "fov: 38",
+            "fov: 38, aperture_radius: 0.1, focus_distance: 2",
+        ),
         ("resolution", "[32, 24]", "[32, 25]"),
         ("a material's colour", "[0.7, 0.7, 0.7]", "[0.7, 0.71, 0.7]"),
         ("a material's emission", "[10, 10, 10]", "[10, 10, 11]"),
@@ -118,6 +129,16 @@ fn every_kind_of_content_changes_the_fingerprint() {
             "type: mirror, color: [0.7",
         ),
         ("a sphere", "radius: 0.1", "radius: 0.11"),
+        (
+            "a mesh's transform",
+            "file: tri.obj, material: white }",
+            "file: tri.obj, material: white, transform: [{ rotate: { axis: [0, 1, 0], angle: 5 } }] }",
+        ),
+        (
+            "a sphere's transform",
+            "radius: 0.1, material: lamp }",
+            "radius: 0.1, material: lamp, transform: [{ translate: [0, 0.01, 0] }] }",
+        ),
         (
             "the point light's position",
             "[0, 1.9, 0], intensity: [1",

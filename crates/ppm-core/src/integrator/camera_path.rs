@@ -17,7 +17,9 @@ use glam::{Vec2, Vec3};
 /// the same at any thread count; each camera pass passes its own salted `seed`, which keeps
 /// its stream apart from the others'. The ray goes through a film position drawn uniformly in
 /// the pixel's square [x, x+1) x [y, y+1), pdf 1 per unit pixel area: the pixel estimates the
-/// mean radiance over its area (a box filter), and the sample weight is 1.
+/// mean radiance over its area (a box filter), and the sample weight is 1. A thin lens then
+/// draws the ray's lens point from the same stream ([`crate::camera::Camera::sample_ray`]);
+/// the lens's importance over its density is 1 too (the lens module's docs).
 /// Always inlined: it opens the per-pixel loop of every camera pass.
 #[inline(always)]
 pub fn start_pixel_path(
@@ -29,7 +31,8 @@ pub fn start_pixel_path(
 ) -> (Rng, Ray) {
     let mut rng = Rng::new(seed, iteration, pixel as u64);
     let film = Vec2::new((pixel % width) as f32, (pixel / width) as f32) + rng.uniform2();
-    (rng, scene.camera.generate_ray(film))
+    let ray = scene.camera.sample_ray(film, &mut rng);
+    (rng, ray)
 }
 
 /// The throughput of a camera path and what MIS needs to know of its previous vertex.

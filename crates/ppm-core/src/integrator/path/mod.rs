@@ -102,7 +102,7 @@ impl Integrator for PathTracer {
                     let mut rng = Rng::new(settings.seed, iteration, pixel as u64);
                     let film =
                         Vec2::new((pixel % width) as f32, (pixel / width) as f32) + rng.uniform2();
-                    let ray = scene.camera.generate_ray(film);
+                    let ray = scene.camera.sample_ray(film, &mut rng);
                     *out = tracer::radiance(scene, settings, ray, &mut rng, &mut counters);
                 }
                 counters

@@ -119,7 +119,7 @@ pub(super) fn trace_light_subpath(
                 vertices.push(stored);
             }
             if c.techniques.light_tracing() {
-                connect_to_camera(scene, params, &stored, splats, counters);
+                connect_to_camera(scene, params, &stored, &mut rng, splats, counters);
             }
         }
         let (u_lobe, u) = (rng.uniform(), rng.uniform2());
@@ -163,17 +163,31 @@ pub(super) fn trace_light_subpath(
 /// the count of the light-tracing technique), so
 /// w_light = mis(p_cam |cos_y| / (d^2 N_light)) (mis(eta_VCM) + dVCM + dVC mis(p_rev)) with
 /// p_rev the pdf at y of the direction back to the light given the camera's.
+///
+/// A thin lens: the camera vertex is a point x_lens drawn uniformly on the lens from `rng`
+/// (area density 1 / A_lens), the pixel is the one whose lens ray from x_lens passes through y,
+/// and the importance W_e = 1 / (A_lens A cos^4 theta) divided by that density leaves the same
+/// per-pixel factor p_cam / d^2, with theta and d measured from x_lens (crate::camera's lens
+/// module). The camera subpath draws its lens point with the same density, so the MIS weight
+/// is the pinhole's formula at x_lens. A pinhole draws nothing from `rng`.
 #[inline]
 fn connect_to_camera(
     scene: &Scene,
     params: &LightPathParams,
     y: &LightVertex,
+    rng: &mut Rng,
     splats: &mut Vec<Splat>,
     counters: &mut RayCounters,
 ) {
     let camera = &scene.camera;
     let p = y.vertex.hit.p;
-    let Some(film) = camera.raster_position(p) else {
+    let (lens, film) = if camera.is_pinhole() {
+        (camera.position, camera.raster_position(p))
+    } else {
+        let lens = camera.lens_point(rng.uniform2());
+        (lens, camera.lens_raster_position(lens, p))
+    };
+    let Some(film) = film else {
         return;
     };
     let (px, py) = (film.x as u32, film.y as u32);
@@ -181,7 +195,7 @@ fn connect_to_camera(
     if px < b.x0 || px >= b.x1 || py < b.y0 || py >= b.y1 {
         return;
     }
-    let to_camera = camera.position - p;
+    let to_camera = lens - p;
     let dist2 = to_camera.length_squared();
     let dist = dist2.sqrt();
     let w = to_camera / dist;
@@ -197,7 +211,7 @@ fn connect_to_camera(
     let c = &params.mis;
     let weight = light_tracing_weight(&y.mis, camera_pdf_area, e.pdf_reverse, c);
     counters.shadow_rays += 1;
-    let shadow = Ray::spawn_to(p, y.vertex.hit.ng, camera.position, Vec3::ZERO);
+    let shadow = Ray::spawn_to(p, y.vertex.hit.ng, lens, Vec3::ZERO);
     if scene.occluded(&shadow) {
         return;
     }

@@ -1,7 +1,8 @@
-//! The sensor (`perspective`), its film (`hdrfilm`) and sampler, and the integrator (`path`,
-//! `volpath`), mapped to ppm's pinhole camera and render defaults.
+//! The sensor (`perspective`, `thinlens`), its film (`hdrfilm`) and sampler, and the
+//! integrator (`path`, `volpath`), mapped to ppm's camera and render defaults.
 
 use super::unsupported;
+use crate::fov::{focal_length_fov, vertical_fov, FovAxis};
 use crate::mitsuba::props::Props;
 use crate::mitsuba::tree::SceneTree;
 use crate::LoadError;
@@ -12,18 +13,22 @@ use ppm_core::integrator::MAX_DEPTH;
 /// Mitsuba's default film size.
 const DEFAULT_FILM: (i64, i64) = (768, 576);
 
-/// ppm's camera from a `<sensor type="perspective">`: the position, view direction and up
-/// vector its `to_world` gives the camera's origin and +z and +y axes, and the vertical field
-/// of view its `fov` and `fov_axis` (or `focal_length`) give for the film's aspect ratio.
+/// ppm's camera from a `<sensor type="perspective">` or `<sensor type="thinlens">`: the
+/// position, view direction and up vector its `to_world` gives the camera's origin and +z and
+/// +y axes, and the vertical field of view its `fov` and `fov_axis` (or `focal_length`) give
+/// for the film's aspect ratio. A `thinlens` adds its `aperture_radius` (required, as in
+/// Mitsuba) and `focus_distance` (Mitsuba's default: `far_clip`, itself 10^4 by default).
 pub fn camera(
     tree: &SceneTree,
     index: usize,
     warnings: &mut Vec<String>,
 ) -> Result<Camera, LoadError> {
     let p = Props::new(tree, index);
-    if p.object.plugin != "perspective" {
-        return Err(unsupported(&tree.objects[index]));
-    }
+    let thin_lens = match p.object.plugin.as_str() {
+        "perspective" => false,
+        "thinlens" => true,
+        _ => return Err(unsupported(&tree.objects[index])),
+    };
     let films = p.objects("film");
     let (width, height) = match films.first() {
         Some(&film) => film_size(tree, film, warnings)?,
@@ -42,8 +47,18 @@ pub fn camera(
         s.finish()?;
     }
     let aspect = width as f64 / height as f64;
-    let vertical = vertical_fov(&p, aspect)?;
+    let vertical = sensor_vertical_fov(&p, aspect)?;
     let m = p.transform("to_world")?;
+    let lens = if thin_lens {
+        let radius = p
+            .float_opt("aperture_radius")?
+            .ok_or_else(|| p.error("sensor: thinlens needs `aperture_radius`"))?;
+        let far_clip = p.float("far_clip", 1e4)?;
+        let focus = p.float("focus_distance", far_clip)?;
+        Some((radius, focus))
+    } else {
+        None
+    };
     if p.get("near_clip").is_some() | p.get("far_clip").is_some() {
         warnings.push(format!(
             "{}: sensor: near_clip and far_clip are not used: ppm's camera does not clip",
@@ -61,21 +76,27 @@ pub fn camera(
             "sensor: its to_world mirrors the image (negative determinant); ppm's camera cannot, rewrite it with a <lookat>",
         ));
     }
-    Camera::new(
+    let camera = Camera::new(
         position.as_vec3(),
         (position + forward).as_vec3(),
         up.as_vec3(),
         vertical as f32,
         (width, height),
-    )
-    .map_err(|e| tree.objects[index].location.error(format!("sensor: {e}")))
+    );
+    // to_world's scale does not scale the lens: Mitsuba's thin lens takes its radius and
+    // focus distance in world units.
+    let camera = match (camera, lens) {
+        (Ok(c), Some((radius, focus))) => c.with_lens(radius as f32, focus as f32),
+        (camera, _) => camera,
+    };
+    camera.map_err(|e| tree.objects[index].location.error(format!("sensor: {e}")))
 }
 
 /// The vertical field of view, degrees, from `fov` + `fov_axis` (x, y, diagonal, smaller,
 /// larger; default x) or `focal_length` (`50mm`: a 36 x 24 mm film's diagonal, Mitsuba's
 /// default). With a = width / height and t = tan(fov / 2), tan(vertical / 2) is t / a (x),
 /// t (y), t / sqrt(1 + a^2) (diagonal).
-fn vertical_fov(p: &Props, aspect: f64) -> Result<f64, LoadError> {
+fn sensor_vertical_fov(p: &Props, aspect: f64) -> Result<f64, LoadError> {
     let fov = p.float_opt("fov")?;
     let focal = p.string_opt("focal_length")?;
     let axis_name = p.string_opt("fov_axis")?;
@@ -93,35 +114,27 @@ fn vertical_fov(p: &Props, aspect: f64) -> Result<f64, LoadError> {
                 .ok()
                 .filter(|v| *v > 0.0 && v.is_finite())
                 .ok_or_else(|| p.error(format!("sensor: focal_length `{f}` is not like `50mm`")))?;
-            let fov = 2.0
-                * ((36.0f64 * 36.0 + 24.0 * 24.0).sqrt() / (2.0 * mm))
-                    .atan()
-                    .to_degrees();
-            (fov, "diagonal".to_string())
+            (focal_length_fov(mm), "diagonal".to_string())
         }
     };
     if !(fov > 0.0 && fov < 180.0) {
         return Err(p.error(format!("sensor: fov {fov} is not in (0, 180) degrees")));
     }
     let axis = match axis.as_str() {
-        "smaller" if aspect > 1.0 => "y",
-        "smaller" => "x",
-        "larger" if aspect > 1.0 => "x",
-        "larger" => "y",
-        other => other,
-    };
-    let t = (fov.to_radians() * 0.5).tan();
-    let tan_vertical = match axis {
-        "x" => t / aspect,
-        "y" => t,
-        "diagonal" => t / (1.0 + aspect * aspect).sqrt(),
+        "smaller" if aspect > 1.0 => FovAxis::Y,
+        "smaller" => FovAxis::X,
+        "larger" if aspect > 1.0 => FovAxis::X,
+        "larger" => FovAxis::Y,
+        "x" => FovAxis::X,
+        "y" => FovAxis::Y,
+        "diagonal" => FovAxis::Diagonal,
         other => {
             return Err(p.error(format!(
                 "sensor: fov_axis `{other}` is not x, y, diagonal, smaller or larger"
             )))
         }
     };
-    Ok(2.0 * tan_vertical.atan().to_degrees())
+    Ok(vertical_fov(fov, axis, aspect))
 }
 
 /// The image size of an `hdrfilm`; a crop window is a warning (ppm crops on its command

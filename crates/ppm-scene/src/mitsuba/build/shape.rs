@@ -7,8 +7,9 @@
 use super::unsupported;
 use crate::mitsuba::props::Props;
 use crate::obj::{self, ObjMaterials};
+use crate::placement::{place_mesh, place_sphere, PlacementError};
 use crate::{ply, serialized, LoadError};
-use glam::{DMat3, DMat4, DVec3, Vec3};
+use glam::{DMat4, DVec3, Vec3};
 use ppm_core::geometry::{Sphere, TriangleMesh};
 use std::f64::consts::TAU;
 use std::path::PathBuf;
@@ -80,47 +81,21 @@ fn place(
     p: &Props,
     warnings: &mut Vec<String>,
 ) -> Result<TriangleMesh, LoadError> {
-    let linear = DMat3::from_mat4(m);
-    let det = linear.determinant();
-    if !(det.is_finite() && det != 0.0) {
-        return Err(p.error(format!(
-            "{}: to_world is singular (it flattens the shape)",
-            p.object.describe()
-        )));
-    }
-    for x in &mut mesh.positions {
-        *x = m.transform_point3(x.as_dvec3()).as_vec3();
-    }
-    if mesh.positions.iter().any(|x| !x.is_finite()) {
-        return Err(p.error(format!(
-            "{}: to_world takes points out of single-precision range",
-            p.object.describe()
-        )));
-    }
-    let normal_matrix = linear.inverse().transpose();
-    let sign = if flip { -1.0 } else { 1.0 };
+    let normals_ok = place_mesh(&mut mesh, m, flip).map_err(|e| {
+        p.error(format!(
+            "{}: {}",
+            p.object.describe(),
+            e.describe("to_world")
+        ))
+    })?;
     if face_normals {
         mesh.normals.clear();
-    }
-    for n in &mut mesh.normals {
-        *n = (sign * (normal_matrix * n.as_dvec3()).normalize_or_zero()).as_vec3();
-    }
-    if mesh
-        .normals
-        .iter()
-        .any(|n| !n.is_finite() || (n.length() - 1.0).abs() > 1e-3)
-    {
+    } else if !normals_ok {
         warnings.push(format!(
             "{}: {}: some vertex normals are zero or not finite; using the faces' normals",
             p.location(),
             p.object.describe()
         ));
-        mesh.normals.clear();
-    }
-    if (det < 0.0) != flip {
-        for t in &mut mesh.indices {
-            t.swap(1, 2);
-        }
     }
     Ok(mesh)
 }
@@ -168,23 +143,15 @@ fn sphere(p: &Props, m: DMat4, flip: bool) -> Result<Geometry, LoadError> {
     if radius <= 0.0 {
         return Err(p.error(format!("sphere: radius {radius} is not positive")));
     }
-    let linear = DMat3::from_mat4(m);
-    let lengths = [linear.x_axis, linear.y_axis, linear.z_axis].map(|a| a.length());
-    let s = lengths[0];
-    let similar = lengths.iter().all(|l| (l - s).abs() <= 1e-6 * s)
-        && linear.x_axis.dot(linear.y_axis).abs() <= 1e-6 * s * s
-        && linear.y_axis.dot(linear.z_axis).abs() <= 1e-6 * s * s
-        && linear.x_axis.dot(linear.z_axis).abs() <= 1e-6 * s * s;
-    if !(similar && s > 0.0) {
-        return Err(p.error(
+    let (c, r) = place_sphere(center, radius, m).map_err(|e| match e {
+        PlacementError::NotSimilar => p.error(
             "sphere: a to_world that does not keep it a sphere (non-uniform scale or shear) is not supported yet",
-        ));
-    }
-    let c = m.transform_point3(center).as_vec3();
-    let r = (radius * s) as f32;
-    if !(c.is_finite() && r.is_finite() && r > 0.0) {
-        return Err(p.error("sphere: its centre or radius is out of single-precision range"));
-    }
+        ),
+        PlacementError::OutOfRange => {
+            p.error("sphere: its centre or radius is out of single-precision range")
+        }
+        e => p.error(format!("sphere: {}", e.describe("to_world"))),
+    })?;
     let sphere = Sphere::new(c, r, 0);
     Ok(Geometry::Sphere(if flip {
         sphere.inward()
