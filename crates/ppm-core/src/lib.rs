@@ -43,6 +43,7 @@ pub mod photon;
 pub mod pixel_bounds;
 pub mod sampling;
 pub mod scene;
+pub mod texture;
 mod simd;
 
 pub use error::{SceneError, StateError};
