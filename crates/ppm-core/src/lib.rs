@@ -43,8 +43,8 @@ pub mod photon;
 pub mod pixel_bounds;
 pub mod sampling;
 pub mod scene;
-pub mod texture;
 mod simd;
+pub mod texture;
 
 pub use error::{SceneError, StateError};
 pub use glam::{Vec2, Vec3};

@@ -19,7 +19,11 @@ fn down(x: f32, y: f32) -> Ray {
 fn triangle_uvs_are_interpolated_by_the_barycentrics() {
     let positions = vec![Vec3::ZERO, Vec3::X, Vec3::Y];
     let mut textured = TriangleMesh::new(positions.clone(), vec![[0, 1, 2]], 0);
-    textured.uvs = vec![Vec2::new(0.1, 0.2), Vec2::new(0.5, 0.2), Vec2::new(0.1, 0.9)];
+    textured.uvs = vec![
+        Vec2::new(0.1, 0.2),
+        Vec2::new(0.5, 0.2),
+        Vec2::new(0.1, 0.9),
+    ];
     // A second mesh without uvs, 10 units away, in the same geometry.
     let far = positions.iter().map(|p| *p + Vec3::X * 10.0).collect();
     let plain = TriangleMesh::new(far, vec![[0, 1, 2]], 0);
@@ -32,7 +36,11 @@ fn triangle_uvs_are_interpolated_by_the_barycentrics() {
         let hit = g.intersect(&down(x, y)).unwrap();
         // On this triangle b1 = x, b2 = y: uv = (1 - x - y) uv0 + x uv1 + y uv2.
         let want = Vec2::new(0.1 + 0.4 * x, 0.2 + 0.7 * y);
-        assert!(close(g.texture_uv(&hit), want, 1e-6), "{x} {y}: {}", g.texture_uv(&hit));
+        assert!(
+            close(g.texture_uv(&hit), want, 1e-6),
+            "{x} {y}: {}",
+            g.texture_uv(&hit)
+        );
         // Without uvs: the barycentrics (Mitsuba's default).
         let hit = g.intersect(&down(10.0 + x, y)).unwrap();
         assert!(close(g.texture_uv(&hit), Vec2::new(x, y), 1e-6));
@@ -57,9 +65,17 @@ fn sphere_uvs_match_mitsuba() {
     let g = Geometry::new(&[], &[Sphere::new(Vec3::ZERO, 1.0, 0)]);
     // (ray origin, direction, Mitsuba 3's uv at the hit).
     let cases = [
-        (Vec3::new(5.0, 0.0, 0.3), -Vec3::X, Vec2::new(0.0, 0.403_013)),
+        (
+            Vec3::new(5.0, 0.0, 0.3),
+            -Vec3::X,
+            Vec2::new(0.0, 0.403_013),
+        ),
         (Vec3::new(0.0, 5.0, 0.0), -Vec3::Y, Vec2::new(0.25, 0.5)),
-        (Vec3::new(-5.0, 0.001, 0.0), Vec3::X, Vec2::new(0.499_841, 0.5)),
+        (
+            Vec3::new(-5.0, 0.001, 0.0),
+            Vec3::X,
+            Vec2::new(0.499_841, 0.5),
+        ),
         (Vec3::new(0.0, 0.0, 5.0), -Vec3::Z, Vec2::new(0.0, 0.0)),
     ];
     for (o, d, want) in cases {
@@ -73,5 +89,8 @@ fn sphere_uvs_match_mitsuba() {
         .unwrap();
     let uv = g.texture_uv(&hit);
     let theta = (-0.5f32).acos();
-    assert!(close(uv, Vec2::new(0.75, theta / std::f32::consts::PI), 1e-5), "{uv}");
+    assert!(
+        close(uv, Vec2::new(0.75, theta / std::f32::consts::PI), 1e-5),
+        "{uv}"
+    );
 }

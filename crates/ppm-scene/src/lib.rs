@@ -21,16 +21,19 @@
 mod build;
 mod content_hash;
 mod error;
+pub mod image_file;
 pub mod ior;
 mod light_area;
 mod light_placement;
 mod materials;
 pub mod mitsuba;
 pub mod mtl;
+pub mod mtl_texture;
 mod nesting;
 pub mod obj;
 pub mod ply;
 pub mod serialized;
+mod texture_desc;
 mod values;
 mod yaml;
 

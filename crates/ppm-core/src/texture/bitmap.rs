@@ -86,9 +86,7 @@ impl Bitmap {
             .iter()
             .fold(glam::DVec3::ZERO, |s, t| s + t.as_dvec3());
         let mean = (sum / texels.len() as f64).as_vec3();
-        let max_value = texels
-            .iter()
-            .fold(0.0f32, |m, t| m.max(t.max_element()));
+        let max_value = texels.iter().fold(0.0f32, |m, t| m.max(t.max_element()));
         Some(Bitmap {
             width,
             height,
@@ -169,7 +167,9 @@ mod tests {
     /// A 2 x 2 image: texel (x, y) has red 1 + x + 2 y, green x, blue y.
     fn image(filter: Filter, wrap: WrapMode) -> Bitmap {
         let texels = (0..2)
-            .flat_map(|y| (0..2).map(move |x| Vec3::new((1 + x + 2 * y) as f32, x as f32, y as f32)))
+            .flat_map(|y| {
+                (0..2).map(move |x| Vec3::new((1 + x + 2 * y) as f32, x as f32, y as f32))
+            })
             .collect();
         Bitmap::new(2, 2, texels, filter, wrap, UvTransform::IDENTITY).unwrap()
     }
@@ -183,19 +183,34 @@ mod tests {
     fn bilinear_interpolates_between_texel_centres() {
         let b = image(Filter::Bilinear, WrapMode::Clamp);
         // Centres at 1/4 and 3/4.
-        assert!(close(b.eval(Vec2::new(0.25, 0.25)), Vec3::new(1.0, 0.0, 0.0)));
-        assert!(close(b.eval(Vec2::new(0.75, 0.75)), Vec3::new(4.0, 1.0, 1.0)));
+        assert!(close(
+            b.eval(Vec2::new(0.25, 0.25)),
+            Vec3::new(1.0, 0.0, 0.0)
+        ));
+        assert!(close(
+            b.eval(Vec2::new(0.75, 0.75)),
+            Vec3::new(4.0, 1.0, 1.0)
+        ));
         // The middle: the mean of the four, (1 + 2 + 3 + 4) / 4 = 2.5.
         assert!(close(b.eval(Vec2::new(0.5, 0.5)), Vec3::new(2.5, 0.5, 0.5)));
         // u = 0.4: s = 0.3, a = 0.3; v = 0.25: top row only: 1 * 0.7 + 2 * 0.3 = 1.3.
-        assert!(close(b.eval(Vec2::new(0.4, 0.25)), Vec3::new(1.3, 0.3, 0.0)));
+        assert!(close(
+            b.eval(Vec2::new(0.4, 0.25)),
+            Vec3::new(1.3, 0.3, 0.0)
+        ));
         // u = 0.625, v = 0.375: s = 0.75, t = 0.25: red = 0.25 0.75 * 2... by the formula:
         // (0.25 * 0.75) 1 + (0.75 * 0.75) 2 + (0.25 * 0.25) 3 + (0.75 * 0.25) 4 = 2.25.
-        assert!(close(b.eval(Vec2::new(0.625, 0.375)), Vec3::new(2.25, 0.75, 0.25)));
+        assert!(close(
+            b.eval(Vec2::new(0.625, 0.375)),
+            Vec3::new(2.25, 0.75, 0.25)
+        ));
         // Clamp: beyond the border centres the border texels.
         assert!(close(b.eval(Vec2::new(0.0, 0.0)), Vec3::new(1.0, 0.0, 0.0)));
         assert!(close(b.eval(Vec2::new(1.0, 0.1)), Vec3::new(2.0, 1.0, 0.0)));
-        assert!(close(b.eval(Vec2::new(-5.0, 7.0)), Vec3::new(3.0, 0.0, 1.0)));
+        assert!(close(
+            b.eval(Vec2::new(-5.0, 7.0)),
+            Vec3::new(3.0, 0.0, 1.0)
+        ));
     }
 
     /// The wrap modes on the edge: repeat blends the last column with the first, mirror
@@ -223,8 +238,18 @@ mod tests {
         assert_eq!(near(WrapMode::Mirror, -0.2), 1.0);
         assert_eq!(near(WrapMode::Clamp, -0.2), 1.0);
         // Rows likewise: v in [0.5, 1) is row 1 (red 3 at column 0).
-        assert_eq!(image(Filter::Nearest, WrapMode::Repeat).eval(Vec2::new(0.1, 0.6)).x, 3.0);
-        assert_eq!(image(Filter::Nearest, WrapMode::Repeat).eval(Vec2::new(0.1, -0.4)).x, 3.0);
+        assert_eq!(
+            image(Filter::Nearest, WrapMode::Repeat)
+                .eval(Vec2::new(0.1, 0.6))
+                .x,
+            3.0
+        );
+        assert_eq!(
+            image(Filter::Nearest, WrapMode::Repeat)
+                .eval(Vec2::new(0.1, -0.4))
+                .x,
+            3.0
+        );
         // Far coordinates and NaN stay inside the image.
         let r = image(Filter::Bilinear, WrapMode::Repeat);
         assert!(r.eval(Vec2::new(1e30, -1e30)).is_finite());
@@ -241,6 +266,14 @@ mod tests {
         assert_eq!(b.eval(Vec2::new(0.3, 0.1)).x, 1.0);
         assert!(close(b.mean(), Vec3::new(2.5, 0.5, 0.5)));
         assert_eq!(b.max_value(), 4.0);
-        assert!(Bitmap::new(2, 2, vec![Vec3::ONE; 3], Filter::Nearest, WrapMode::Clamp, UvTransform::IDENTITY).is_none());
+        assert!(Bitmap::new(
+            2,
+            2,
+            vec![Vec3::ONE; 3],
+            Filter::Nearest,
+            WrapMode::Clamp,
+            UvTransform::IDENTITY
+        )
+        .is_none());
     }
 }

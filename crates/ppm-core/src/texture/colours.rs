@@ -37,8 +37,12 @@ impl ColourSlot {
             (Bsdf::Diffuse(d), DiffuseReflectance) => d.albedo = c,
             (Bsdf::Phong(p), DiffuseReflectance) => p.diffuse = c,
             (Bsdf::Phong(p), SpecularReflectance) => p.specular = c,
-            (Bsdf::Plastic(p), DiffuseReflectance) => *p = p.with_reflectances(c, p.specular_reflectance),
-            (Bsdf::Plastic(p), SpecularReflectance) => *p = p.with_reflectances(p.diffuse_reflectance, c),
+            (Bsdf::Plastic(p), DiffuseReflectance) => {
+                *p = p.with_reflectances(c, p.specular_reflectance)
+            }
+            (Bsdf::Plastic(p), SpecularReflectance) => {
+                *p = p.with_reflectances(p.diffuse_reflectance, c)
+            }
             (Bsdf::TwoSidedPlastic(t), DiffuseReflectance) => {
                 t.0 = t.0.with_reflectances(c, t.0.specular_reflectance)
             }

@@ -151,7 +151,10 @@ pub(super) fn prepare(
             "vt" => {
                 let t = numbers::<f32>(&args, path, line_no, "vt")?;
                 if !(1..=3).contains(&t.len()) {
-                    return Err(err(format!("`vt` needs u [v [w]], found {} numbers", t.len())));
+                    return Err(err(format!(
+                        "`vt` needs u [v [w]], found {} numbers",
+                        t.len()
+                    )));
                 }
                 let _ = writeln!(body, "vt {} {}", t[0], t.get(1).copied().unwrap_or(0.0));
                 texcoords += 1;
@@ -336,7 +339,9 @@ fn face_vertex(
         "" => None,
         vt => match vt.parse::<i64>() {
             Ok(i) if i != 0 && i.unsigned_abs() <= n_texcoords as u64 => {
-                Some(Some(if i < 0 { n_texcoords as i64 + 1 + i } else { i } as usize))
+                Some(Some(
+                    if i < 0 { n_texcoords as i64 + 1 + i } else { i } as usize
+                ))
             }
             Ok(_) => Some(None),
             Err(_) => {
