@@ -305,3 +305,80 @@ fn mtl_map_kd_loads_as_a_bitmap_texture() {
     .to_string();
     assert!(e.contains("nowhere.png") && e.contains("m.mtl:2"), "{e}");
 }
+
+/// The same floor as a Mitsuba 3 scene (bitmap nested, checkerboard by `<ref>`), through
+/// ppm's importer: at every pixel's hit the BSDF equals the YAML scene's (uv of the turned
+/// rectangle, `to_uv`, filtering and wrapping all read as Mitsuba means them).
+#[test]
+fn the_mitsuba_importer_reads_bitmap_and_checkerboard() {
+    let xml = load_scene(&data("textured_floor.xml")).unwrap().scene;
+    let yaml = load_scene(&data("textured_floor.yml")).unwrap().scene;
+    assert_eq!(
+        xml.materials
+            .iter()
+            .filter(|m| m.textures.is_some())
+            .count(),
+        2
+    );
+    // The albedo seen through a pixel; black where the ray misses the floor (the view
+    // reaches past its far edge).
+    let albedo = |scene: &Scene, ray: &ppm_core::geometry::Ray| match scene.intersect(ray) {
+        None => Vec3::ZERO,
+        Some(hit) => match scene.bsdf(&hit) {
+            ppm_core::bsdf::Bsdf::Diffuse(d) => d.albedo,
+            other => panic!("{other:?}"),
+        },
+    };
+    let mut distinct = Vec::new();
+    for j in 0..32 {
+        for i in 0..32 {
+            let film = glam::Vec2::new(i as f32 + 0.3, j as f32 + 0.6);
+            let a = albedo(&yaml, &yaml.camera.generate_ray(film));
+            let b = albedo(&xml, &xml.camera.generate_ray(film));
+            assert!(
+                (a - b).abs().max_element() < 1e-4,
+                "pixel {i} {j}: {a} vs {b}"
+            );
+            if !distinct
+                .iter()
+                .any(|d: &Vec3| (*d - a).abs().max_element() < 1e-3)
+            {
+                distinct.push(a);
+            }
+        }
+    }
+    // The view holds both checkerboard colours and many bitmap values.
+    assert!(distinct.len() > 100, "{}", distinct.len());
+}
+
+/// A texture ppm does not read, and a missing bitmap file, are errors naming them.
+#[test]
+fn mitsuba_texture_errors_name_the_plugin_and_file() {
+    let xml = |texture: &str| {
+        format!(
+            r#"<scene version="3.0.0">
+  <sensor type="perspective"/>
+  <shape type="rectangle"><bsdf type="diffuse">{texture}</bsdf></shape>
+</scene>"#
+        )
+    };
+    let load = |name: &str, text: &str| {
+        let dir = write_files(name, &[("s.xml", text)]);
+        match load_scene_builder(&dir.join("s.xml")) {
+            Ok(_) => panic!("no error"),
+            Err(e) => e.to_string(),
+        }
+    };
+    let e = load(
+        "mitsuba_texture_unknown",
+        &xml(r#"<texture type="mesh_attribute" name="reflectance"/>"#),
+    );
+    assert!(e.contains("mesh_attribute") && e.contains("s.xml"), "{e}");
+    let e = load(
+        "mitsuba_texture_missing",
+        &xml(
+            r#"<texture type="bitmap" name="reflectance"><string name="filename" value="gone.png"/></texture>"#,
+        ),
+    );
+    assert!(e.contains("gone.png"), "{e}");
+}

@@ -6,6 +6,7 @@
 mod bsdf;
 mod sensor;
 pub mod shape;
+mod texture;
 
 use super::props::Props;
 use super::spectrum::Role;
@@ -137,9 +138,7 @@ fn add_shape(
         (Some(&b), None) => match materials.bsdfs.get(&b) {
             Some(&m) => m,
             None => {
-                let m = builder.add_material(
-                    Material::new(bsdf::bsdf(tree, b)?, Vec3::ZERO).named(name(tree, b)),
-                );
+                let m = builder.add_material(material(tree, b, Vec3::ZERO, name(tree, b))?);
                 materials.bsdfs.insert(b, m);
                 m
             }
@@ -150,7 +149,7 @@ fn add_shape(
                 name(tree, b),
                 tree.objects[index].location
             );
-            builder.add_material(Material::new(bsdf::bsdf(tree, b)?, le).named(name))
+            builder.add_material(material(tree, b, le, name)?)
         }
         (None, None) => *materials.default.get_or_insert_with(|| {
             builder.add_material(
@@ -241,4 +240,19 @@ fn add_emitter(
         "area" => Err(p.error("emitter `area` must be nested in a <shape>")),
         _ => Err(unsupported(p.object)),
     }
+}
+
+/// The material of BSDF object `b` emitting `le`, with the textures its colours read.
+fn material(tree: &SceneTree, b: usize, le: Vec3, name: String) -> Result<Material, LoadError> {
+    let (bsdf, textures) = texture::textured_bsdf(tree, b)?;
+    Material::new(bsdf, le)
+        .named(name)
+        .textured(textures)
+        .map_err(|slot| {
+            tree.objects[b].location.error(format!(
+                "{}: ppm cannot texture its {}",
+                tree.objects[b].describe(),
+                slot.name()
+            ))
+        })
 }
