@@ -322,7 +322,7 @@ fn face_vertex(
     counts: (usize, usize, usize),
     path: &Path,
     line_no: usize,
-) -> Result<(usize, Option<Option<usize>>, Option<usize>), LoadError> {
+) -> Result<(usize, TexcoordIndex, Option<usize>), LoadError> {
     let (n_positions, n_texcoords, n_normals) = counts;
     let err = |message: String| LoadError::parse(path, line_no, message);
     let mut parts = token.split('/');
@@ -374,6 +374,10 @@ fn face_vertex(
     };
     Ok((position, texcoord, normal))
 }
+
+/// A face vertex's texture coordinate: `None` without one, `Some(None)` for an index out of
+/// range, `Some(Some(i))` for the absolute index i.
+type TexcoordIndex = Option<Option<usize>>;
 
 /// The normal of a polygon, |n| = 2 area, robust for non-planar ones (Newell's method).
 fn newell_normal(points: impl Iterator<Item = Vec3> + Clone) -> Vec3 {
