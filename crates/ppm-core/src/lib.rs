@@ -44,6 +44,7 @@ pub mod pixel_bounds;
 pub mod sampling;
 pub mod scene;
 mod simd;
+pub mod texture;
 
 pub use error::{SceneError, StateError};
 pub use glam::{Vec2, Vec3};

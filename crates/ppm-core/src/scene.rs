@@ -1,6 +1,6 @@
 //! The scene description: camera, materials, geometry and lights. Immutable during a render.
 
-use crate::bsdf::BsdfFlags;
+use crate::bsdf::{Bsdf, BsdfFlags};
 use crate::camera::Camera;
 use crate::geometry::{Geometry, Hit, Ray, Sphere, TriangleMesh};
 use crate::light::{EmissionSample, Light, LightKind, PointLight};
@@ -275,6 +275,17 @@ impl Scene {
     #[inline]
     pub fn material(&self, hit: &Hit) -> &Material {
         &self.materials[hit.material as usize]
+    }
+
+    /// The BSDF at a hit: the material's, with its textured colours (if any) evaluated at
+    /// the hit's texture coordinates, which are computed only then.
+    #[inline(always)]
+    pub fn bsdf(&self, hit: &Hit) -> Bsdf {
+        let material = self.material(hit);
+        match &material.textures {
+            None => material.bsdf,
+            Some(_) => material.bsdf_at(self.geometry.texture_uv(hit)),
+        }
     }
 
     /// Chooses a light in proportion to its power: (light, probability). `None` without lights.

@@ -89,6 +89,7 @@ fn degenerate_triangles_are_skipped_and_counted() {
     let a = TriangleMesh {
         positions: v.to_vec(),
         normals: Vec::new(),
+        uvs: Vec::new(),
         indices: vec![
             [0, 1, 2], // kept: prim 0
             [0, 1, 3], // collinear, zero area
@@ -157,6 +158,7 @@ fn hits_report_point_normals_and_barycentrics() {
     let mesh = TriangleMesh {
         positions,
         normals,
+        uvs: Vec::new(),
         indices,
         materials: vec![0, 0],
     };

@@ -444,12 +444,24 @@ fn material(
     warnings: &mut Vec<String>,
 ) -> Result<Material, LoadError> {
     let field = format!("materials.{name}");
+    // Textures first: the BSDF is built with their means.
+    let dir = path.parent().unwrap_or(Path::new(""));
+    let textures = crate::texture_desc::textures(d, &field, path, dir)?;
     let bsdf = match materials::mitsuba_bsdf(d, &field, path)? {
         Some(bsdf) => bsdf,
         None => classic_bsdf(d, &field, path, warnings)?,
     };
     let emission = d.emission.as_ref().map_or(Vec3::ZERO, |e| e.value());
-    Ok(Material::new(bsdf, emission).named(name))
+    Material::new(bsdf, emission)
+        .named(name)
+        .textured(textures)
+        .map_err(|slot| {
+            LoadError::invalid(
+                path,
+                field,
+                format!("the material has no {} to texture", slot.name()),
+            )
+        })
 }
 
 /// The BSDF of one of the original material types (diffuse, mirror, glass, phong).

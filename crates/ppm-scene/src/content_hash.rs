@@ -2,8 +2,9 @@
 //! `ppm merge` can refuse to join renders of different scenes.
 //!
 //! The fingerprint is FNV-1a (64-bit) over a text that [`Fingerprint`] writes field by field
-//! from one explicit list: camera, materials, triangle meshes (every vertex, normal and index,
-//! so OBJ files are included), spheres, lights of every kind and render defaults. Nothing
+//! from one explicit list: camera, materials (with their textures, every texel), triangle
+//! meshes (every vertex, normal and index, so OBJ files are included; their uvs when a
+//! material is textured), spheres, lights of every kind and render defaults. Nothing
 //! is hashed through a `Debug` implementation, so no derive decides whether old renders
 //! resume. The text is the one ppm wrote before the fingerprint was explicit (then the
 //! `Debug` text of the same values), so the fingerprints of scenes saved by earlier
@@ -27,6 +28,7 @@ use ppm_core::integrator::Algorithm;
 use ppm_core::light::{Light, PointLight, SphereLight, SpotLight, TriangleLight};
 use ppm_core::material::Material;
 use ppm_core::scene::{RenderDefaults, SceneBuilder};
+use ppm_core::texture::{Texture, UvTransform};
 use std::fmt::Write;
 
 /// The fingerprint of everything the renderer will see of the scene (see the module
@@ -45,7 +47,11 @@ pub fn content_hash(builder: &SceneBuilder) -> u64 {
     } = builder;
     f.camera(camera);
     f.list(materials, Fingerprint::material);
-    f.list(meshes, Fingerprint::mesh);
+    // Texture coordinates change the image only through textures: without a textured
+    // material they are left out, so scenes keep the fingerprint they had before meshes
+    // kept them.
+    let textured = materials.iter().any(|m| m.textures.is_some());
+    f.list(meshes, |f, m| f.mesh(m, textured));
     f.list(spheres, Fingerprint::sphere);
     f.list(lights, Fingerprint::light);
     f.defaults(defaults);
@@ -90,7 +96,11 @@ impl Fingerprint {
     }
 
     fn text(&mut self, s: &str) {
-        for byte in s.bytes() {
+        self.bytes(s.as_bytes());
+    }
+
+    fn bytes(&mut self, bytes: &[u8]) {
+        for &byte in bytes {
             self.hash ^= byte as u64;
             self.hash = self.hash.wrapping_mul(0x0000_0100_0000_01b3);
         }
@@ -186,12 +196,56 @@ impl Fingerprint {
             bsdf,
             emission,
             name,
+            textures,
         } = m;
-        self.record("Material")
+        let record = self
+            .record("Material")
             .field("bsdf", |f| f.bsdf(bsdf))
             .field("emission", |f| f.vec3(*emission))
-            .field("name", |f| f.string(name))
-            .end();
+            .field("name", |f| f.string(name));
+        // Only when textured, so that constant materials keep their fingerprint.
+        match textures {
+            Some(t) => record.field("textures", |f| {
+                f.list(t.slots(), |f, (slot, texture)| {
+                    f.text(slot.name());
+                    f.text(": ");
+                    f.texture(texture);
+                })
+            }),
+            None => record,
+        }
+        .end();
+    }
+
+    /// A texture: its model, parameters and (for a bitmap) every texel's bits, so that a
+    /// changed image file changes the fingerprint.
+    fn texture(&mut self, t: &Texture) {
+        let transform = |f: &mut Self, u: &UvTransform| f.list(&u.m, |f, x| f.f32(*x));
+        match t {
+            Texture::Constant(c) => self.variant("Constant", |f| f.vec3(*c)),
+            Texture::Checkerboard(c) => self
+                .record("Checkerboard")
+                .field("color0", |f| f.vec3(c.color0))
+                .field("color1", |f| f.vec3(c.color1))
+                .field("transform", |f| transform(f, &c.transform))
+                .end(),
+            Texture::Bitmap(b) => {
+                let (w, h) = b.size();
+                self.record("Bitmap")
+                    .field("size", |f| f.list(&[w, h], |f, x| f.u32(*x)))
+                    .field("filter", |f| f.text(&format!("{:?}", b.filter)))
+                    .field("wrap", |f| f.text(&format!("{:?}", b.wrap)))
+                    .field("transform", |f| transform(f, &b.transform))
+                    .field("texels", |f| {
+                        for t in b.texels() {
+                            for x in t.to_array() {
+                                f.bytes(&x.to_bits().to_le_bytes());
+                            }
+                        }
+                    })
+                    .end()
+            }
+        }
     }
 
     fn bsdf(&mut self, b: &Bsdf) {
@@ -296,21 +350,35 @@ impl Fingerprint {
         }
     }
 
-    fn mesh(&mut self, m: &TriangleMesh) {
+    /// A mesh; its texture coordinates only when `with_uvs` and it has some.
+    fn mesh(&mut self, m: &TriangleMesh, with_uvs: bool) {
         let TriangleMesh {
             positions,
             normals,
+            uvs,
             indices,
             materials,
         } = m;
-        self.record("TriangleMesh")
+        let record = self
+            .record("TriangleMesh")
             .field("positions", |f| f.list(positions, |f, p| f.vec3(*p)))
             .field("normals", |f| f.list(normals, |f, n| f.vec3(*n)))
             .field("indices", |f| {
                 f.list(indices, |f, tri| f.list(tri, |f, i| f.u32(*i)))
             })
-            .field("materials", |f| f.list(materials, |f, m| f.u32(*m)))
-            .end();
+            .field("materials", |f| f.list(materials, |f, m| f.u32(*m)));
+        if with_uvs && !uvs.is_empty() {
+            record.field("uvs", |f| {
+                f.list(uvs, |f, t| {
+                    f.f32(t.x);
+                    f.text(" ");
+                    f.f32(t.y);
+                })
+            })
+        } else {
+            record
+        }
+        .end();
     }
 
     fn sphere(&mut self, s: &Sphere) {

@@ -137,9 +137,8 @@ pub(crate) fn mitsuba_bsdf(
         allowed(kind),
     )?;
     let err = |sub: &str, msg: String| LoadError::invalid(path, format!("{field}{sub}"), msg);
-    let white = |c: &Option<crate::values::Triple<crate::values::Reflectance>>| {
-        c.as_ref().map_or(Vec3::ONE, |c| c.value())
-    };
+    let white =
+        |c: &Option<crate::texture_desc::Colour>| c.as_ref().map_or(Vec3::ONE, |c| c.value());
     let bsdf = match kind {
         MaterialType::Conductor | MaterialType::RoughConductor => {
             let (eta, k) = conductor_index(d, &err)?;

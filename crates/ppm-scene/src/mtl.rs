@@ -37,6 +37,10 @@ pub struct MtlMaterial {
     pub d: Option<f32>,
     /// Illumination model.
     pub illum: Option<u32>,
+    /// `map_Kd`: an image for the diffuse reflectance (see `mtl_texture.rs`).
+    pub map_kd: Option<crate::mtl_texture::MtlTexture>,
+    /// `map_Ks`: an image for the specular reflectance.
+    pub map_ks: Option<crate::mtl_texture::MtlTexture>,
 }
 
 /// Parses the text of an MTL file. `path` names the file in messages and warnings.
@@ -114,6 +118,8 @@ pub fn parse_mtl(
                 },
                 _ => return Err(err("`illum` needs one whole number".into())),
             },
+            "map_kd" => m.map_kd = Some(crate::mtl_texture::parse(&args, path, line_no)?),
+            "map_ks" => m.map_ks = Some(crate::mtl_texture::parse(&args, path, line_no)?),
             k if (k.starts_with("map_")
                 || matches!(k, "bump" | "disp" | "decal" | "refl" | "norm"))
                 && !ignored.iter().any(|s| s == keyword) =>

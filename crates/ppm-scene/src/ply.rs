@@ -20,16 +20,20 @@ pub struct MeshData {
     pub positions: Vec<Vec3>,
     /// Per-vertex normals as stored (not normalised), or empty.
     pub normals: Vec<Vec3>,
-    /// Per-vertex texture coordinates, or empty (ppm does not texture yet).
+    /// Per-vertex texture coordinates as stored, or empty.
     pub uvs: Vec<Vec2>,
     pub indices: Vec<[u32; 3]>,
 }
 
 impl MeshData {
-    /// ppm's mesh with `material` everywhere; normals normalised (texture coordinates dropped).
+    /// ppm's mesh with `material` everywhere; normals normalised; texture coordinates as
+    /// stored (Mitsuba 3 reads PLY and serialized uvs unflipped).
     pub fn into_triangle_mesh(self, material: u32) -> TriangleMesh {
         let mut mesh = TriangleMesh::new(self.positions, self.indices, material);
         mesh.normals = self.normals.iter().map(|n| n.normalize_or_zero()).collect();
+        if self.uvs.len() == mesh.positions.len() {
+            mesh.uvs = self.uvs;
+        }
         mesh
     }
 }

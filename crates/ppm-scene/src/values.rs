@@ -220,7 +220,7 @@ impl<'de> Deserialize<'de> for Number {
     }
 }
 
-struct TripleVisitor<R>(PhantomData<R>);
+pub(crate) struct TripleVisitor<R>(pub(crate) PhantomData<R>);
 
 impl<'de, R: Rule> Visitor<'de> for TripleVisitor<R> {
     type Value = Triple<R>;

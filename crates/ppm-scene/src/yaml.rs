@@ -5,9 +5,10 @@
 //! of errors inside them. Which fields a type takes is checked afterwards in `build.rs`.
 
 use crate::ior::Ior;
+use crate::texture_desc::Colour;
 use crate::values::{
-    Alpha, Count, Depth, FieldOfView, GatherRadius, NonNegative, Num, Point, Positive, Reflectance,
-    Resolution, Triple,
+    Alpha, Count, Depth, FieldOfView, GatherRadius, NonNegative, Num, Point, Positive, Resolution,
+    Triple,
 };
 use ppm_core::integrator::Algorithm;
 use serde::de::{self, DeserializeSeed, Deserializer, MapAccess, Visitor};
@@ -73,11 +74,11 @@ pub enum MaterialType {
 pub struct MaterialDesc {
     #[serde(rename = "type")]
     pub kind: MaterialType,
-    pub color: Option<Triple<Reflectance>>,
+    pub color: Option<Colour>,
     pub emission: Option<Triple<NonNegative>>,
     pub ior: Option<Num<Positive>>,
-    pub diffuse: Option<Triple<Reflectance>>,
-    pub specular: Option<Triple<Reflectance>>,
+    pub diffuse: Option<Colour>,
+    pub specular: Option<Colour>,
     pub exponent: Option<Num<NonNegative>>,
     // The Mitsuba-style materials (conductor ... twosided), with Mitsuba's parameter names.
     pub alpha: Option<Num<NonNegative>>,
@@ -89,9 +90,9 @@ pub struct MaterialDesc {
     pub eta: Option<Triple<NonNegative>>,
     pub k: Option<Triple<NonNegative>>,
     pub material: Option<String>,
-    pub specular_reflectance: Option<Triple<Reflectance>>,
-    pub specular_transmittance: Option<Triple<Reflectance>>,
-    pub diffuse_reflectance: Option<Triple<Reflectance>>,
+    pub specular_reflectance: Option<Colour>,
+    pub specular_transmittance: Option<Colour>,
+    pub diffuse_reflectance: Option<Colour>,
     /// The material a `twosided` shows on both sides.
     pub bsdf: Option<Box<MaterialDesc>>,
 }

@@ -68,9 +68,8 @@ impl Plastic {
         eta: f32,
         roughness: Option<Ggx>,
     ) -> Self {
-        let mean = |c: Vec3| (c.x + c.y + c.z) / 3.0;
-        let (d, s) = (mean(diffuse_reflectance), mean(specular_reflectance));
-        let specular_sampling_weight = if d + s > 0.0 { s / (d + s) } else { 0.5 };
+        let specular_sampling_weight =
+            Self::sampling_weight(diffuse_reflectance, specular_reflectance);
         let (internal_reflectance, transmittance) = match &roughness {
             None => (fresnel_diffuse_reflectance(1.0 / eta), None),
             Some(ggx) => {
@@ -87,6 +86,28 @@ impl Plastic {
             specular_sampling_weight,
             transmittance,
         }
+    }
+
+    /// w = mean(specular) / (mean(specular) + mean(diffuse)), 1/2 when both are black.
+    fn sampling_weight(diffuse: Vec3, specular: Vec3) -> f32 {
+        let mean = |c: Vec3| (c.x + c.y + c.z) / 3.0;
+        let (d, s) = (mean(diffuse), mean(specular));
+        if d + s > 0.0 {
+            s / (d + s)
+        } else {
+            0.5
+        }
+    }
+
+    /// The same coating over other colours (a texture's values at a hit): the coating's
+    /// tables depend on eta and roughness only and are kept; the sampling weight follows
+    /// the colours. Equal to [`Plastic::new`] with these colours.
+    #[inline]
+    pub fn with_reflectances(mut self, diffuse: Vec3, specular: Vec3) -> Self {
+        self.diffuse_reflectance = diffuse;
+        self.specular_reflectance = specular;
+        self.specular_sampling_weight = Self::sampling_weight(diffuse, specular);
+        self
     }
 
     /// The coating's lobe (delta or glossy) if its tint is not black, the base's (glossy)

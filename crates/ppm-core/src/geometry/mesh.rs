@@ -1,6 +1,6 @@
 //! Indexed triangle meshes as loaded from files or built in code.
 
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 
 /// An indexed triangle mesh. Winding is counter-clockwise seen from the side the geometric
 /// normal points to: `ng = normalize(cross(v1 - v0, v2 - v0))`.
@@ -10,6 +10,9 @@ pub struct TriangleMesh {
     pub positions: Vec<Vec3>,
     /// Per-vertex shading normals, indexed like `positions`; empty when the mesh has none.
     pub normals: Vec<Vec3>,
+    /// Per-vertex texture coordinates, indexed like `positions`; empty when the mesh has
+    /// none (a hit then takes its barycentrics (b1, b2) as uv, as Mitsuba 3 does).
+    pub uvs: Vec<Vec2>,
     /// Vertex indices, three per triangle.
     pub indices: Vec<[u32; 3]>,
     /// Material index per triangle (same length as `indices`).
@@ -23,13 +26,15 @@ impl TriangleMesh {
         TriangleMesh {
             positions,
             normals: Vec::new(),
+            uvs: Vec::new(),
             indices,
             materials,
         }
     }
 
     /// The two triangles of the quad `corner + s * edge_u + t * edge_v`, s, t in [0, 1], whose
-    /// normal is `normalize(cross(edge_u, edge_v))`.
+    /// normal is `normalize(cross(edge_u, edge_v))`. Its uv is (s, t): Mitsuba 3's
+    /// `rectangle` convention for the rectangle's corner (-1, -1, 0) and edges 2x, 2y.
     pub fn quad(corner: Vec3, edge_u: Vec3, edge_v: Vec3, material: u32) -> Self {
         let positions = vec![
             corner,
@@ -37,7 +42,9 @@ impl TriangleMesh {
             corner + edge_u + edge_v,
             corner + edge_v,
         ];
-        Self::new(positions, vec![[0, 1, 2], [0, 2, 3]], material)
+        let mut mesh = Self::new(positions, vec![[0, 1, 2], [0, 2, 3]], material);
+        mesh.uvs = vec![Vec2::ZERO, Vec2::X, Vec2::ONE, Vec2::Y];
+        mesh
     }
 
     /// A closed, bumpy sphere for benchmarks and tests of large meshes: each face of a cube

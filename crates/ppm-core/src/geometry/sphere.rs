@@ -45,8 +45,9 @@ impl Sphere {
     /// The surface point nearest to `p` (a hit point computed as o + t d, reprojected so that
     /// it lies on the sphere to float precision) and its geometric normal.
     ///
-    /// No (u, v) parameters: nothing in the renderer textures a sphere, so their atan2 and
-    /// acos would be wasted on every hit.
+    /// No (u, v) parameters: only a textured material needs them, and it asks for them
+    /// after the hit (`Geometry::texture_uv`), so their atan2 and acos are not paid on
+    /// every hit.
     #[inline]
     pub fn surface(&self, p: Vec3) -> (Vec3, Vec3) {
         // In double precision and rounded once, so the point is within half an ulp per

@@ -175,18 +175,18 @@ where
             break;
         };
         w.length += hit.t;
-        let material = scene.material(&hit);
         let wo = -ray.dir;
         let emitted = w.path.emission(scene, &hit, wo, params.emission);
         w.add(emitted);
         if depth == params.max_depth {
             break;
         }
+        let bsdf = scene.bsdf(&hit);
         let v = Vertex {
             hit: &hit,
             wo,
             sf: ShadingFrame::new(&hit, wo),
-            bsdf: &material.bsdf,
+            bsdf: &bsdf,
             depth,
         };
         let Next::Scatter(bsdf) = at_vertex(&mut w, &v, rng) else {

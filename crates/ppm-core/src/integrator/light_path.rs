@@ -75,7 +75,7 @@ pub fn trace_light_path<S: PhotonSink>(
         let Some(hit) = scene.intersect(&ray) else {
             return;
         };
-        let bsdf = &scene.material(&hit).bsdf;
+        let bsdf = &scene.bsdf(&hit);
         // The photon arrived along ray.dir: its incoming direction points back along the ray.
         let wo = -ray.dir;
         if bounce >= first_stored_bounce && stores_photons(bsdf) {

@@ -2,7 +2,7 @@
 //! length or repaired, so that no NaN reaches the renderer.
 
 use super::safe_normalize;
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 use ppm_core::geometry::TriangleMesh;
 use std::path::Path;
 
@@ -139,10 +139,25 @@ pub(super) fn clean(
         }
     }
 
+    // OBJ's v runs up the image, Mitsuba's (and ppm's) down from its top row: v -> 1 - v,
+    // as Mitsuba 3's OBJ loader does. Coordinates on some vertices only are dropped.
+    let mut uvs: Vec<Vec2> = mesh
+        .texcoords
+        .chunks_exact(2)
+        .map(|t| Vec2::new(t[0], 1.0 - t[1]))
+        .collect();
+    if !uvs.is_empty() && uvs.len() != positions.len() {
+        warnings.push(format!(
+            "{}: object `{name}`: some faces have texture coordinates and some do not; its texture coordinates are ignored",
+            path.display()
+        ));
+        uvs.clear();
+    }
     let materials = vec![material; indices.len()];
     Some(TriangleMesh {
         positions,
         normals,
+        uvs,
         indices,
         materials,
     })

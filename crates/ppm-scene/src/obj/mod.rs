@@ -158,11 +158,15 @@ pub fn parse_obj_relative(
         let material = match materials {
             ObjMaterials::Ignore => 0,
             ObjMaterials::FromMtl => match model.mesh.material_id.filter(|&i| i < all.len()) {
-                Some(i) => *local[i].get_or_insert_with(|| {
-                    data.materials
-                        .push(mtl::mtl_to_material(all[i], path, warnings));
-                    data.materials.len() as u32 - 1
-                }),
+                Some(i) => match local[i] {
+                    Some(l) => l,
+                    None => {
+                        let m = mtl::mtl_to_material(all[i], path, warnings);
+                        let m = crate::mtl_texture::textured(m, all[i], warnings)?;
+                        data.materials.push(m);
+                        *local[i].insert(data.materials.len() as u32 - 1)
+                    }
+                },
                 None => *default_index.get_or_insert_with(|| {
                     data.materials.push(mtl::default_material());
                     data.materials.len() as u32 - 1

@@ -20,7 +20,7 @@ pub(super) struct Prepared {
 
 /// Checks and rewrites OBJ text line by line (see the module docs). The output has only
 /// `mtllib` (first, as statement numbers), `v` (minus `origin`, in double precision), `vn`,
-/// `f` (absolute indices), `o`, `g` and `usemtl` statements.
+/// `vt`, `f` (absolute indices), `o`, `g` and `usemtl` statements.
 pub(super) fn prepare(
     text: &str,
     path: &Path,
@@ -80,13 +80,18 @@ pub(super) fn prepare(
             }
             "f" | "fo" => {
                 let mut vertices = Vec::with_capacity(args.len());
+                let mut uvs = Vec::with_capacity(args.len());
                 let mut texcoord_ok = true;
                 for token in &args {
                     let counts = (positions.len(), texcoords, normal_index.len());
-                    let (v, vt_ok, n) = face_vertex(token, counts, path, line_no)?;
-                    texcoord_ok &= vt_ok;
+                    let (v, vt, n) = face_vertex(token, counts, path, line_no)?;
+                    texcoord_ok &= vt != Some(None);
+                    uvs.push(vt.flatten());
                     vertices.push((v, n.map(|n| normal_index[n - 1])));
                 }
+                // A face's texture coordinates are kept when all its vertices have them.
+                let uvs: Vec<usize> = uvs.iter().map_while(|t| *t).collect();
+                let uvs = (uvs.len() == vertices.len()).then_some(uvs);
                 if !texcoord_ok {
                     bad_texcoords.add(line_no);
                 }
@@ -106,10 +111,13 @@ pub(super) fn prepare(
                     flat = Some(emitted_normals);
                 }
                 body.push('f');
-                for (v, n) in vertices {
-                    match flat.or(n) {
-                        Some(n) => write!(body, " {v}//{n}"),
-                        None => write!(body, " {v}"),
+                for (k, (v, n)) in vertices.into_iter().enumerate() {
+                    let _ = write!(body, " {v}");
+                    match (uvs.as_ref().map(|t| t[k]), flat.or(n)) {
+                        (Some(t), Some(n)) => write!(body, "/{t}/{n}"),
+                        (Some(t), None) => write!(body, "/{t}"),
+                        (None, Some(n)) => write!(body, "//{n}"),
+                        (None, None) => Ok(()),
                     }
                     .ok();
                 }
@@ -138,9 +146,19 @@ pub(super) fn prepare(
                 let _ = writeln!(out.text, "mtllib {}", out.mtllibs.len());
                 out.mtllibs.push((line_no, args.join(" ")));
             }
-            // Texture coordinates and smoothing groups: ppm has no textures and shades with
+            // Texture coordinates: u v (a w is ignored). Smoothing groups: ppm shades with
             // the given vertex normals (or flat).
-            "vt" => texcoords += 1,
+            "vt" => {
+                let t = numbers::<f32>(&args, path, line_no, "vt")?;
+                if !(1..=3).contains(&t.len()) {
+                    return Err(err(format!(
+                        "`vt` needs u [v [w]], found {} numbers",
+                        t.len()
+                    )));
+                }
+                let _ = writeln!(body, "vt {} {}", t[0], t.get(1).copied().unwrap_or(0.0));
+                texcoords += 1;
+            }
             "s" => {}
             "l" | "p" => skipped_elements.add(line_no),
             other => {
@@ -160,7 +178,7 @@ pub(super) fn prepare(
     }
     if let Some(first) = bad_texcoords.first {
         warnings.push(format!(
-            "{file}:{first}: {} a texture coordinate index out of range{}; ignored, as ppm has no textures",
+            "{file}:{first}: {} a texture coordinate index out of range{}; its texture coordinates are ignored",
             plural(bad_texcoords.count, "face has", "faces have"),
             bad_texcoords.more()
         ));
@@ -304,7 +322,7 @@ fn face_vertex(
     counts: (usize, usize, usize),
     path: &Path,
     line_no: usize,
-) -> Result<(usize, bool, Option<usize>), LoadError> {
+) -> Result<(usize, TexcoordIndex, Option<usize>), LoadError> {
     let (n_positions, n_texcoords, n_normals) = counts;
     let err = |message: String| LoadError::parse(path, line_no, message);
     let mut parts = token.split('/');
@@ -316,10 +334,16 @@ fn face_vertex(
             "face vertex `{token}` has more than three parts (v/vt/vn)"
         )));
     }
-    let texcoord_ok = match vt {
-        "" => true,
+    // None: no index; Some(None): an index out of range; Some(Some(i)): absolute index i.
+    let texcoord = match vt {
+        "" => None,
         vt => match vt.parse::<i64>() {
-            Ok(i) => i != 0 && i.unsigned_abs() <= n_texcoords as u64,
+            Ok(i) if i != 0 && i.unsigned_abs() <= n_texcoords as u64 => {
+                Some(Some(
+                    if i < 0 { n_texcoords as i64 + 1 + i } else { i } as usize
+                ))
+            }
+            Ok(_) => Some(None),
             Err(_) => {
                 return Err(err(format!(
                     "face vertex `{token}`: `{vt}` is not a texture coordinate index"
@@ -348,8 +372,12 @@ fn face_vertex(
     } else {
         Some(resolve(vn, n_normals, "normal", "normals")?)
     };
-    Ok((position, texcoord_ok, normal))
+    Ok((position, texcoord, normal))
 }
+
+/// A face vertex's texture coordinate: `None` without one, `Some(None)` for an index out of
+/// range, `Some(Some(i))` for the absolute index i.
+type TexcoordIndex = Option<Option<usize>>;
 
 /// The normal of a polygon, |n| = 2 area, robust for non-planar ones (Newell's method).
 fn newell_normal(points: impl Iterator<Item = Vec3> + Clone) -> Vec3 {

@@ -59,6 +59,9 @@ pub struct Geometry {
     /// hit costs one memory access beyond the BVH's.
     tri_attributes: Vec<TriangleAttributes>,
     shading_normals: Vec<[Vec3; 3]>,
+    /// Texture coordinates of each triangle's vertices by global id, read only when a
+    /// textured material is shaded ([`Geometry::texture_uv`]); empty without any.
+    tex_coords: Vec<[Vec2; 3]>,
     spheres: Vec<Sphere>,
     skipped: usize,
     duplicates: usize,
@@ -84,6 +87,7 @@ impl Geometry {
             triangles,
             attributes: tri_attributes,
             shading_normals,
+            tex_coords,
             skipped,
         } = kept;
         let spheres = spheres.to_vec();
@@ -146,6 +150,7 @@ impl Geometry {
             packed_at,
             tri_attributes,
             shading_normals,
+            tex_coords,
             spheres,
             skipped,
             duplicates,
@@ -207,6 +212,36 @@ impl Geometry {
         }
     }
 
+    /// The texture coordinates (u, v) at `hit`, computed after the nearest hit is known
+    /// (the traversal never reads them), as Mitsuba 3 defines them:
+    /// - a triangle: its vertices' uvs interpolated by the barycentrics,
+    ///   `(1 - b1 - b2) uv0 + b1 uv1 + b2 uv2`; without uvs, (b1, b2) itself;
+    /// - a sphere: `(phi / 2 pi, theta / pi)` of the direction `d` from its centre, with
+    ///   `phi = atan2(d.y, d.x)` in [0, 2 pi) and `theta = acos(d.z)` (Mitsuba's `sphere`
+    ///   in its object frame; ppm's spheres are not rotated).
+    pub fn texture_uv(&self, hit: &Hit) -> Vec2 {
+        let prim = hit.prim as usize;
+        let (b1, b2) = (hit.uv.x, hit.uv.y);
+        if prim < self.packed_at.len() {
+            match self.tex_coords.get(prim) {
+                Some([t0, t1, t2]) => *t0 * (1.0 - b1 - b2) + *t1 * b1 + *t2 * b2,
+                None => hit.uv,
+            }
+        } else {
+            let s = self.sphere(hit.prim);
+            let d = ((hit.p - s.center) / s.radius).clamp(Vec3::splat(-1.0), Vec3::ONE);
+            let mut phi = d.y.atan2(d.x);
+            if phi < 0.0 {
+                phi += std::f32::consts::TAU;
+            }
+            let theta = d.z.acos();
+            Vec2::new(
+                phi * std::f32::consts::FRAC_1_PI * 0.5,
+                theta * std::f32::consts::FRAC_1_PI,
+            )
+        }
+    }
+
     /// Number of triangles kept.
     pub fn triangle_count(&self) -> usize {
         self.packed_at.len()
@@ -236,6 +271,7 @@ impl Geometry {
                 size_of::<TriangleAttributes>(),
             )
             + bytes(self.shading_normals.capacity(), size_of::<[Vec3; 3]>())
+            + bytes(self.tex_coords.capacity(), size_of::<[Vec2; 3]>())
             + bytes(self.spheres.capacity(), size_of::<Sphere>())
     }
 

@@ -9,7 +9,7 @@
 //! number of threads and equal to a serial loop's.
 
 use super::super::{Triangle, TriangleMesh};
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 use rayon::prelude::*;
 use std::mem::take;
 
@@ -30,6 +30,10 @@ pub(super) struct Kept {
     pub(super) triangles: Vec<Triangle>,
     pub(super) attributes: Vec<TriangleAttributes>,
     pub(super) shading_normals: Vec<[Vec3; 3]>,
+    /// Texture coordinates of each kept triangle's vertices, by global id; empty when no
+    /// mesh has any (a mesh without them gives its triangles (0, 0), (1, 0), (0, 1), so
+    /// interpolating them gives back the barycentrics).
+    pub(super) tex_coords: Vec<[Vec2; 3]>,
     /// Faces skipped as degenerate.
     pub(super) skipped: usize,
 }
@@ -51,6 +55,8 @@ impl Kept {
     /// Every face of `meshes` that is not skipped, in order.
     pub(super) fn gather(meshes: &[TriangleMesh]) -> Kept {
         let mut kept = Kept::default();
+        let has_uvs = |m: &TriangleMesh| !m.uvs.is_empty() && m.uvs.len() == m.positions.len();
+        let any_uvs = meshes.iter().any(has_uvs);
         for mesh in meshes {
             // The faces kept: all of them in the common case, else the list of their indices.
             let skipped = mesh
@@ -95,6 +101,14 @@ impl Kept {
                         .map(|j| mesh.indices[face_of(j)].map(|k| mesh.normals[k as usize])),
                 );
             }
+            if any_uvs {
+                let uvs = has_uvs(mesh);
+                kept.tex_coords
+                    .par_extend((0..count).into_par_iter().map(|j| match uvs {
+                        true => mesh.indices[face_of(j)].map(|k| mesh.uvs[k as usize]),
+                        false => [Vec2::ZERO, Vec2::X, Vec2::Y],
+                    }));
+            }
         }
         kept
     }
@@ -110,6 +124,10 @@ impl Kept {
         self.triangles.retain(|_| keep(&mut i));
         i = 0;
         self.attributes.retain(|_| keep(&mut i));
+        if !self.tex_coords.is_empty() {
+            i = 0;
+            self.tex_coords.retain(|_| keep(&mut i));
+        }
     }
 }
 
@@ -172,6 +190,7 @@ mod tests {
         TriangleMesh {
             positions,
             normals,
+            uvs: Vec::new(),
             indices,
             // Fewer materials than faces: the rest default to 0.
             materials: (0..faces as u32 / 2).collect(),

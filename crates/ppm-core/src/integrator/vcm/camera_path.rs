@@ -81,7 +81,7 @@ impl CameraPass<'_> {
             };
             edges += 1;
             let material = scene.material(&hit);
-            let v = SurfaceVertex::new(hit, material.bsdf, -ray.dir);
+            let v = SurfaceVertex::new(hit, scene.bsdf(&hit), -ray.dir);
             if !state.arrive(hit.t * hit.t, v.cos_wo()) {
                 break;
             }

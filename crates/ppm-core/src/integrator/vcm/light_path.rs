@@ -98,7 +98,7 @@ pub(super) fn trace_light_subpath(
             return;
         };
         edges += 1;
-        let bsdf = scene.material(&hit).bsdf;
+        let bsdf = scene.bsdf(&hit);
         let v = SurfaceVertex::new(hit, bsdf, -ray.dir);
         let dist2 = if at_infinity && edges == 1 {
             1.0

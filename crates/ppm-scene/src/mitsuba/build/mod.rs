@@ -7,6 +7,7 @@ mod bsdf;
 mod emitter;
 mod sensor;
 pub mod shape;
+mod texture;
 
 use super::props::Props;
 use super::tree::{Object, SceneTree};
@@ -136,9 +137,7 @@ fn add_shape(
         (Some(&b), None) => match materials.bsdfs.get(&b) {
             Some(&m) => m,
             None => {
-                let m = builder.add_material(
-                    Material::new(bsdf::bsdf(tree, b, warnings)?, Vec3::ZERO).named(name(tree, b)),
-                );
+                let m = builder.add_material(material(tree, b, warnings, Vec3::ZERO, name(tree, b))?);
                 materials.bsdfs.insert(b, m);
                 m
             }
@@ -149,7 +148,7 @@ fn add_shape(
                 name(tree, b),
                 tree.objects[index].location
             );
-            builder.add_material(Material::new(bsdf::bsdf(tree, b, warnings)?, le).named(name))
+            builder.add_material(material(tree, b, warnings, le, name)?)
         }
         (None, None) => *materials.default.get_or_insert_with(|| {
             builder.add_material(
@@ -184,4 +183,25 @@ fn name(tree: &SceneTree, bsdf: usize) -> String {
     let o = &tree.objects[bsdf];
     o.id.clone()
         .unwrap_or_else(|| format!("{} ({})", o.plugin, o.location))
+}
+
+/// The material of BSDF object `b` emitting `le`, with the textures its colours read.
+fn material(
+    tree: &SceneTree,
+    b: usize,
+    warnings: &mut Vec<String>,
+    le: Vec3,
+    name: String,
+) -> Result<Material, LoadError> {
+    let (bsdf, textures) = texture::textured_bsdf(tree, b, warnings)?;
+    Material::new(bsdf, le)
+        .named(name)
+        .textured(textures)
+        .map_err(|slot| {
+            tree.objects[b].location.error(format!(
+                "{}: ppm cannot texture its {}",
+                tree.objects[b].describe(),
+                slot.name()
+            ))
+        })
 }

@@ -55,9 +55,9 @@ fn bsdf_at(
     Ok(bsdf)
 }
 
-/// A reflectance in [0, 1] (each channel).
+/// A reflectance in [0, 1] (each channel), or a texture (`texture.rs`; its mean here).
 fn reflectance(p: &Props, name: &str, default: f64) -> Result<DVec3, LoadError> {
-    let c = p.colour(name, DVec3::splat(default), Role::Reflectance)?;
+    let c = super::texture::colour_or_texture(p, name, DVec3::splat(default), Role::Reflectance)?;
     if c.min_element() < 0.0 || c.max_element() > 1.0 {
         return Err(p.error(format!(
             "{}: `{name}` is {c}, expected each channel in [0, 1]",
