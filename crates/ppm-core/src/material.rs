@@ -1,6 +1,7 @@
 //! A material: a BSDF and an optional emitted radiance.
 
 use crate::bsdf::Bsdf;
+use crate::medium::MediumInterface;
 use glam::Vec3;
 
 /// What a surface does with light: scatter it by `bsdf` and, when `emission` is non-zero,
@@ -11,6 +12,9 @@ pub struct Material {
     pub emission: Vec3,
     /// Name for messages (the scene's material name).
     pub name: String,
+    /// The absorbing media on the surface's two sides (clear unless the scene says so);
+    /// see [`crate::medium`] for the rule that decides which medium a segment is in.
+    pub medium: MediumInterface,
 }
 
 impl Material {
@@ -20,7 +24,14 @@ impl Material {
             bsdf,
             emission,
             name: String::new(),
+            medium: MediumInterface::CLEAR,
         }
+    }
+
+    /// The same material bounding the absorbing media `medium`.
+    pub fn with_medium(mut self, medium: MediumInterface) -> Self {
+        self.medium = medium;
+        self
     }
 
     /// The same material with a name.

@@ -380,7 +380,14 @@ fn material(
         None => classic_bsdf(d, &field, path, warnings)?,
     };
     let emission = d.emission.as_ref().map_or(Vec3::ZERO, |e| e.value());
-    Ok(Material::new(bsdf, emission).named(name))
+    // `absorption` and `ext_absorption` were checked against the type's fields above.
+    let medium = ppm_core::medium::MediumInterface {
+        interior: d.absorption.as_ref().map_or(Vec3::ZERO, |a| a.value()),
+        exterior: d.ext_absorption.as_ref().map_or(Vec3::ZERO, |a| a.value()),
+    };
+    Ok(Material::new(bsdf, emission)
+        .named(name)
+        .with_medium(medium))
 }
 
 /// The BSDF of one of the original material types (diffuse, mirror, glass, phong).
@@ -394,7 +401,7 @@ pub(crate) fn classic_bsdf(
     let allowed: &[&str] = match d.kind {
         MaterialType::Diffuse => &["color", "emission"],
         MaterialType::Mirror => &["color", "emission"],
-        MaterialType::Glass => &["ior", "color", "emission"],
+        MaterialType::Glass => &["ior", "color", "emission", "absorption"],
         MaterialType::Phong => &["diffuse", "specular", "exponent", "emission"],
         _ => unreachable!("the Mitsuba-style types are built in materials.rs"),
     };

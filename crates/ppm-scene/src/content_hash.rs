@@ -26,6 +26,7 @@ use ppm_core::geometry::{Sphere, TriangleMesh};
 use ppm_core::integrator::Algorithm;
 use ppm_core::light::{Light, PointLight, SphereLight, SpotLight, TriangleLight};
 use ppm_core::material::Material;
+use ppm_core::medium::MediumInterface;
 use ppm_core::scene::{RenderDefaults, SceneBuilder};
 use std::fmt::Write;
 
@@ -177,12 +178,27 @@ impl Fingerprint {
             bsdf,
             emission,
             name,
+            medium,
         } = m;
-        self.record("Material")
+        let record = self
+            .record("Material")
             .field("bsdf", |f| f.bsdf(bsdf))
             .field("emission", |f| f.vec3(*emission))
-            .field("name", |f| f.string(name))
-            .end();
+            .field("name", |f| f.string(name));
+        // Absorbing media are written only when present, so that scenes without them keep
+        // the fingerprint they had before media existed.
+        let record = if medium.is_clear() {
+            record
+        } else {
+            let MediumInterface { interior, exterior } = medium;
+            record.field("medium", |f| {
+                f.record("MediumInterface")
+                    .field("interior", |f| f.vec3(*interior))
+                    .field("exterior", |f| f.vec3(*exterior))
+                    .end()
+            })
+        };
+        record.end();
     }
 
     fn bsdf(&mut self, b: &Bsdf) {
