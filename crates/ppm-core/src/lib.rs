@@ -38,6 +38,7 @@ pub mod geometry;
 pub mod integrator;
 pub mod light;
 pub mod material;
+pub mod medium;
 pub mod metrics;
 pub mod photon;
 pub mod pixel_bounds;

@@ -2,6 +2,7 @@
 
 use crate::bsdf::Bsdf;
 use crate::texture::{ColourSlot, Texture, TexturedColours};
+use crate::medium::MediumInterface;
 use glam::{Vec2, Vec3};
 
 /// What a surface does with light: scatter it by `bsdf` and, when `emission` is non-zero,
@@ -18,6 +19,9 @@ pub struct Material {
     /// The BSDF colours that vary over the surface; `None` for a constant material (which
     /// then costs one branch per hit).
     pub textures: Option<Box<TexturedColours>>,
+    /// The absorbing media on the surface's two sides (clear unless the scene says so);
+    /// see [`crate::medium`] for the rule that decides which medium a segment is in.
+    pub medium: MediumInterface,
 }
 
 impl Material {
@@ -28,7 +32,14 @@ impl Material {
             emission,
             name: String::new(),
             textures: None,
+            medium: MediumInterface::CLEAR,
         }
+    }
+
+    /// The same material bounding the absorbing media `medium`.
+    pub fn with_medium(mut self, medium: MediumInterface) -> Self {
+        self.medium = medium;
+        self
     }
 
     /// The same material with a name.

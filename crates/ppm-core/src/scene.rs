@@ -71,6 +71,9 @@ pub struct Scene {
     light_distribution: Distribution1D,
     /// Light index of each emissive primitive (u32::MAX for the others), by global prim id.
     prim_light: Vec<u32>,
+    /// True if some material bounds an absorbing medium; otherwise every transmittance is 1
+    /// and [`Scene::transmittance`] returns at once.
+    absorbing: bool,
 }
 
 /// Collects the parts of a scene, then builds the BVH and the lights.
@@ -218,7 +221,9 @@ impl SceneBuilder {
             .iter()
             .map(|l| l.power().element_sum() / 3.0)
             .collect();
+        let absorbing = self.materials.iter().any(|m| !m.medium.is_clear());
         Ok(Scene {
+            absorbing,
             camera: self.camera,
             materials: self.materials,
             geometry,
@@ -286,6 +291,41 @@ impl Scene {
             None => material.bsdf,
             Some(_) => material.bsdf_at(self.geometry.texture_uv(hit)),
         }
+    }
+
+    /// Beer-Lambert transmittance of a segment of length `t` with one end at `hit`, lying on
+    /// the side of `hit`'s surface that `w` (leaving the surface) points into: `exp(-sigma_a
+    /// t)` with `sigma_a` of that side's medium ([`crate::medium`], the stateless rule).
+    /// For the segment a ray `ray` travelled to its hit: `transmittance(&hit, -ray.dir,
+    /// hit.t)`; for a shadow ray or a connection leaving `hit` toward a point at distance
+    /// `d` along `w`: `transmittance(&hit, w, d)`. Exactly 1 (at the cost of one predictable
+    /// branch) in a scene without absorption.
+    #[inline(always)]
+    pub fn transmittance(&self, hit: &Hit, w: Vec3, t: f32) -> Vec3 {
+        if !self.absorbing {
+            return Vec3::ONE;
+        }
+        let sigma_a = self.material(hit).medium.toward(w, hit.ng);
+        crate::medium::transmittance(sigma_a, t)
+    }
+
+    /// [`Scene::transmittance`] of the segment from `hit` to `target` (a light's point, another
+    /// subpath's vertex, the camera): the medium on the side of `hit` the segment leaves
+    /// into, over the distance between them. An unoccluded segment crosses no surface, so
+    /// this is also the medium at `target`'s end.
+    #[inline(always)]
+    pub fn transmittance_to(&self, hit: &Hit, target: Vec3) -> Vec3 {
+        if !self.absorbing {
+            return Vec3::ONE;
+        }
+        let d = target - hit.p;
+        self.transmittance(hit, d, d.length())
+    }
+
+    /// True if some surface bounds an absorbing medium.
+    #[inline]
+    pub fn has_absorption(&self) -> bool {
+        self.absorbing
     }
 
     /// Chooses a light in proportion to its power: (light, probability). `None` without lights.

@@ -452,8 +452,14 @@ fn material(
         None => classic_bsdf(d, &field, path, warnings)?,
     };
     let emission = d.emission.as_ref().map_or(Vec3::ZERO, |e| e.value());
+    // `absorption` and `ext_absorption` were checked against the type's fields above.
+    let medium = ppm_core::medium::MediumInterface {
+        interior: d.absorption.as_ref().map_or(Vec3::ZERO, |a| a.value()),
+        exterior: d.ext_absorption.as_ref().map_or(Vec3::ZERO, |a| a.value()),
+    };
     Material::new(bsdf, emission)
         .named(name)
+        .with_medium(medium)
         .textured(textures)
         .map_err(|slot| {
             LoadError::invalid(
@@ -475,7 +481,7 @@ pub(crate) fn classic_bsdf(
     let allowed: &[&str] = match d.kind {
         MaterialType::Diffuse => &["color", "emission"],
         MaterialType::Mirror => &["color", "emission"],
-        MaterialType::Glass => &["ior", "color", "emission"],
+        MaterialType::Glass => &["ior", "color", "emission", "absorption"],
         MaterialType::Phong => &["diffuse", "specular", "exponent", "emission"],
         _ => unreachable!("the Mitsuba-style types are built in materials.rs"),
     };

@@ -27,6 +27,7 @@ use ppm_core::geometry::{Sphere, TriangleMesh};
 use ppm_core::integrator::Algorithm;
 use ppm_core::light::{Light, PointLight, SphereLight, SpotLight, TriangleLight};
 use ppm_core::material::Material;
+use ppm_core::medium::MediumInterface;
 use ppm_core::scene::{RenderDefaults, SceneBuilder};
 use ppm_core::texture::{Texture, UvTransform};
 use std::fmt::Write;
@@ -197,6 +198,7 @@ impl Fingerprint {
             emission,
             name,
             textures,
+            medium,
         } = m;
         let record = self
             .record("Material")
@@ -204,7 +206,7 @@ impl Fingerprint {
             .field("emission", |f| f.vec3(*emission))
             .field("name", |f| f.string(name));
         // Only when textured, so that constant materials keep their fingerprint.
-        match textures {
+        let record = match textures {
             Some(t) => record.field("textures", |f| {
                 f.list(t.slots(), |f, (slot, texture)| {
                     f.text(slot.name());
@@ -213,8 +215,21 @@ impl Fingerprint {
                 })
             }),
             None => record,
-        }
-        .end();
+        };
+        // Absorbing media are written only when present, so that scenes without them keep
+        // the fingerprint they had before media existed.
+        let record = if medium.is_clear() {
+            record
+        } else {
+            let MediumInterface { interior, exterior } = medium;
+            record.field("medium", |f| {
+                f.record("MediumInterface")
+                    .field("interior", |f| f.vec3(*interior))
+                    .field("exterior", |f| f.vec3(*exterior))
+                    .end()
+            })
+        };
+        record.end();
     }
 
     /// A texture: its model, parameters and (for a bitmap) every texel's bits, so that a

@@ -16,7 +16,7 @@ use std::path::Path;
 const DEFAULT_ALPHA: f32 = 0.1;
 
 /// Every field a material may have, with whether `d` has it.
-pub(crate) fn present_fields(d: &MaterialDesc) -> [(&'static str, bool); 19] {
+pub(crate) fn present_fields(d: &MaterialDesc) -> [(&'static str, bool); 21] {
     [
         ("color", d.color.is_some()),
         ("emission", d.emission.is_some()),
@@ -37,6 +37,8 @@ pub(crate) fn present_fields(d: &MaterialDesc) -> [(&'static str, bool); 19] {
         ("specular_transmittance", d.specular_transmittance.is_some()),
         ("diffuse_reflectance", d.diffuse_reflectance.is_some()),
         ("bsdf", d.bsdf.is_some()),
+        ("absorption", d.absorption.is_some()),
+        ("ext_absorption", d.ext_absorption.is_some()),
     ]
 }
 
@@ -57,7 +59,16 @@ fn allowed(kind: MaterialType) -> &'static [&'static str] {
             ROUGH[2],
             ROUGH[3],
         ],
-        MaterialType::Dielectric | MaterialType::ThinDielectric => &[
+        MaterialType::Dielectric => &[
+            "int_ior",
+            "ext_ior",
+            "specular_reflectance",
+            "specular_transmittance",
+            "emission",
+            "absorption",
+            "ext_absorption",
+        ],
+        MaterialType::ThinDielectric => &[
             "int_ior",
             "ext_ior",
             "specular_reflectance",
@@ -70,6 +81,8 @@ fn allowed(kind: MaterialType) -> &'static [&'static str] {
             "specular_reflectance",
             "specular_transmittance",
             "emission",
+            "absorption",
+            "ext_absorption",
             ROUGH[0],
             ROUGH[1],
             ROUGH[2],

@@ -95,6 +95,12 @@ pub struct MaterialDesc {
     pub diffuse_reflectance: Option<Colour>,
     /// The material a `twosided` shows on both sides.
     pub bsdf: Option<Box<MaterialDesc>>,
+    /// Absorption coefficient sigma_a (1 / scene unit, per channel) of the medium inside a
+    /// `glass`, `dielectric` or `roughdielectric` (on the side opposite the normal).
+    pub absorption: Option<Triple<NonNegative>>,
+    /// sigma_a of the medium outside a `dielectric` or `roughdielectric` (the side of the
+    /// normal: the glass around water), as `ext_ior` names its index.
+    pub ext_absorption: Option<Triple<NonNegative>>,
 }
 
 /// The object types.

@@ -205,3 +205,34 @@ fn every_kind_of_content_changes_the_fingerprint() {
     let swapped = fingerprint("fingerprint_swapped", &swapped, OBJ);
     assert!(seen.iter().all(|(_, h)| *h != swapped), "lights reordered");
 }
+
+/// An absorbing medium changes the fingerprint (its interior and its exterior alike, each
+/// channel), and an explicit zero absorption keeps the fingerprint of none.
+#[test]
+fn absorption_changes_the_fingerprint() {
+    let with = |material: &str| {
+        let yaml = BASE.replace(
+            "objects:\n",
+            &format!("  water: {material}\nobjects:\n  - {{ type: sphere, center: [0, 0.5, 0], radius: 0.3, material: water }}\n"),
+        );
+        fingerprint("fingerprint_absorption", &yaml, OBJ)
+    };
+    let clear = with("{ type: dielectric, int_ior: water, ext_ior: bk7 }");
+    let zero = with(
+        "{ type: dielectric, int_ior: water, ext_ior: bk7, absorption: [0, 0, 0], ext_absorption: [0, 0, 0] }",
+    );
+    assert_eq!(clear, zero);
+    let hashes = [
+        clear,
+        with("{ type: dielectric, int_ior: water, ext_ior: bk7, absorption: [0.1, 0, 0] }"),
+        with("{ type: dielectric, int_ior: water, ext_ior: bk7, absorption: [0, 0.1, 0] }"),
+        with("{ type: dielectric, int_ior: water, ext_ior: bk7, ext_absorption: [0.1, 0, 0] }"),
+        with("{ type: glass, ior: 1.33, absorption: [0.1, 0, 0] }"),
+        with("{ type: glass, ior: 1.33 }"),
+    ];
+    for (i, a) in hashes.iter().enumerate() {
+        for b in &hashes[i + 1..] {
+            assert_ne!(a, b, "absorption edit {i} collides");
+        }
+    }
+}

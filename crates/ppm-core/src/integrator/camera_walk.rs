@@ -147,7 +147,8 @@ impl Walk<'_> {
 /// depth limit; returns the radiance gathered (emission picked up, plus what `at_vertex`
 /// added).
 ///
-/// Per vertex: one closest-hit ray; emission weighted by `params.emission`; at the depth limit
+/// Per vertex: one closest-hit ray, the throughput times the transmittance of the medium
+/// the segment crossed ([`Scene::transmittance`]); emission weighted by `params.emission`; at the depth limit
 /// the walk ends; otherwise `at_vertex` decides, and on [`Next::Scatter`] the path continues by
 /// sampling that BSDF in radiance mode, throughput *= f |cos| / pdf, with Russian roulette
 /// after `params.rr_depth` bounces ([`CameraPath::scatter`]).
@@ -175,6 +176,8 @@ where
             break;
         };
         w.length += hit.t;
+        // Beer-Lambert along the segment just travelled (1 without absorbing media).
+        w.path.throughput *= scene.transmittance(&hit, -ray.dir, hit.t);
         let wo = -ray.dir;
         let emitted = w.path.emission(scene, &hit, wo, params.emission);
         w.add(emitted);

@@ -9,9 +9,10 @@ use glam::Vec3;
 
 /// One light sample of the direct light reflected toward `wo` at `hit`:
 ///
-/// L_d = f(wo, wi) |cos wi| L_e / (p_light * p_dir(wi)) * w,
+/// L_d = f(wo, wi) |cos wi| L_e T / (p_light * p_dir(wi)) * w,
 ///
-/// with the light chosen in proportion to power (p_light), the point sampled uniformly by
+/// with T the transmittance of the medium between the point and the light (1 in clear
+/// media; [`Scene::transmittance_to`]), the light chosen in proportion to power (p_light), the point sampled uniformly by
 /// area and converted to solid angle (p_dir = d^2 / (A cos_l)), and `w` the power-heuristic
 /// weight against BSDF sampling when `mis` is set (1 for point lights, which BSDF sampling
 /// cannot find). Returns the contribution (before the path throughput) and whether a shadow
@@ -52,7 +53,10 @@ pub fn estimate_direct(
     } else {
         1.0
     };
-    (f * wi_local.z.abs() * ls.li * (weight / pdf_light), true)
+    // The unoccluded segment lies in one medium: Beer-Lambert over its length (the MIS
+    // weight is unaffected, nothing is sampled in the medium).
+    let li = ls.li * scene.transmittance_to(hit, ls.p);
+    (f * wi_local.z.abs() * li * (weight / pdf_light), true)
 }
 
 /// MIS weight of emission found by BSDF sampling from `prev_p` with solid-angle pdf

@@ -42,8 +42,10 @@ pub fn stores_photons(bsdf: &Bsdf) -> bool {
 /// direction, flux) is stored: from the first hit on with `--direct photons`, from the second
 /// with `--direct sampled` (the eye pass then samples direct light itself). The path scatters
 /// by BSDF sampling in importance mode: flux *= f |cos| / pdf times Veach's shading-normal
-/// correction. Russian roulette keeps photons of about equal power: the survival probability
-/// is q = min(1, max(flux after) / max(flux before)) (the reflectivity of the bounce along the
+/// correction; along each segment the flux is multiplied by the transmittance of the medium
+/// it crossed ([`Scene::transmittance`], Beer-Lambert). Russian roulette keeps photons of
+/// about equal power: the survival probability is q = min(1, max(flux after) / max(flux
+/// before)) (the transmittance of the segment times the reflectivity of the bounce along the
 /// sampled direction), and survivors are divided by q.
 /// Always inlined into the pass's loop over paths, so that the loop's invariants are derived
 /// once and the ray counters stay in registers (docs/performance.md, "Inlining").
@@ -78,6 +80,11 @@ pub fn trace_light_path<S: PhotonSink>(
         let bsdf = &scene.bsdf(&hit);
         // The photon arrived along ray.dir: its incoming direction points back along the ray.
         let wo = -ray.dir;
+        // The flux leaving the last vertex, before the medium the segment crossed absorbed
+        // part of it: Russian roulette below compares with it, so that absorption, like
+        // the BSDF, thins photons out instead of dimming them.
+        let emitted = flux;
+        flux *= scene.transmittance(&hit, wo, hit.t);
         if bounce >= first_stored_bounce && stores_photons(bsdf) {
             out.deposit(hit.p, wo, flux, path, bounce);
             counters.photons += 1;
@@ -94,7 +101,7 @@ pub fn trace_light_path<S: PhotonSink>(
         let correction =
             shading_normal_correction(TransportMode::Importance, wo, wi, hit.ng, sf.frame.z);
         let scattered = flux * s.weight * correction;
-        let survive = (scattered.max_element() / flux.max_element()).min(1.0);
+        let survive = (scattered.max_element() / emitted.max_element()).min(1.0);
         if survive.is_nan() || rng.uniform() >= survive {
             return;
         }

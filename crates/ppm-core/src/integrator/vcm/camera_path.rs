@@ -80,6 +80,8 @@ impl CameraPass<'_> {
                 break;
             };
             edges += 1;
+            // Beer-Lambert along the segment (1 in clear media).
+            throughput *= scene.transmittance(&hit, -ray.dir, hit.t);
             let material = scene.material(&hit);
             let v = SurfaceVertex::new(hit, scene.bsdf(&hit), -ray.dir);
             if !state.arrive(hit.t * hit.t, v.cos_wo()) {
@@ -168,7 +170,7 @@ impl CameraPass<'_> {
     /// chosen in proportion to power (p_light), a point on it with solid-angle pdf p_W
     /// (`DirectSample::pdf`; a delta of weight I/d^2 for point lights):
     ///
-    /// L = f(wo, wi) |cos wi| L_e / (p_light p_W) w,
+    /// L = f(wo, wi) |cos wi| L_e Tr / (p_light p_W) w (Tr the transmittance to the light),
     ///
     /// w_light = mis(p_bsdf(wi) / (p_light p_W)) (0 for point lights, which the camera
     /// subpath cannot hit), w_camera = mis(p_e(-wi) |cos wi| / d^2) (mis(eta_VCM) + dVCM +
@@ -207,13 +209,16 @@ impl CameraPass<'_> {
         if scene.occluded(&Ray::spawn_to(hit.p, hit.ng, ls.p, ls.n)) {
             return Vec3::ZERO;
         }
-        e.f_cos * ls.li * (weight / pdf_light)
+        e.f_cos * ls.li * scene.transmittance_to(hit, ls.p) * (weight / pdf_light)
     }
 
     /// Vertex connection of `x` to each stored vertex y of light subpath `path` (TR eqs.
     /// 40-41), as long as the full path has at most `max_edges` edges:
     ///
-    /// C = T_y f_y(-> x) f_x(-> y) G(x, y) w, G = |cos_x| |cos_y| / d^2,
+    /// C = T_y f_y(-> x) f_x(-> y) G(x, y) Tr(x, y) w, G = |cos_x| |cos_y| / d^2,
+    ///
+    /// Tr the Beer-Lambert transmittance of the segment's medium ([`Scene::transmittance_to`];
+    /// a factor of the contribution only, absorption is not sampled),
     ///
     /// w_light = mis(p_x(-> y) |cos_y| / d^2) (mis(eta_VCM) + dVCM_y + dVC_y mis(p_y,rev)),
     /// w_camera = mis(p_y(-> x) |cos_x| / d^2) (mis(eta_VCM) + dVCM_x + dVC_x mis(p_x,rev)):
@@ -256,7 +261,8 @@ impl CameraPass<'_> {
             if self.scene.occluded(&shadow) {
                 continue;
             }
-            sum += y.throughput * ex.f_cos * ey.f_cos * (weight / dist2);
+            let tr = self.scene.transmittance_to(hit, y.vertex.hit.p);
+            sum += y.throughput * ex.f_cos * ey.f_cos * tr * (weight / dist2);
         }
         sum
     }

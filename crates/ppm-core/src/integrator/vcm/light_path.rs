@@ -39,7 +39,9 @@ pub(super) struct LightPathParams {
 ///
 /// The subpath starts as the photon pass's does (a light chosen in proportion to power, a
 /// point uniform on it, a cosine-weighted direction; a uniform one for point lights): the
-/// throughput Le cos / (p_light p_A p_W). At each hit the MIS quantities are completed
+/// throughput Le cos / (p_light p_A p_W), times the transmittance of each segment's medium
+/// ([`Scene::transmittance`]; absorption is not sampled, so no pdf and no MIS weight
+/// changes). At each hit the MIS quantities are completed
 /// ([`SubpathMis::arrive`]); at a vertex with a non-delta lobe the vertex is stored and
 /// connected to the camera; the subpath then scatters by BSDF sampling in importance mode
 /// (throughput *= f |cos| / pdf times Veach's shading-normal correction), with Russian
@@ -98,6 +100,10 @@ pub(super) fn trace_light_subpath(
             return;
         };
         edges += 1;
+        // Beer-Lambert along the segment (1 in clear media); as in the photon pass, Russian
+        // roulette below compares with the throughput before it.
+        let emitted = throughput;
+        throughput *= scene.transmittance(&hit, -ray.dir, hit.t);
         let bsdf = scene.bsdf(&hit);
         let v = SurfaceVertex::new(hit, bsdf, -ray.dir);
         let dist2 = if at_infinity && edges == 1 {
@@ -140,7 +146,7 @@ pub(super) fn trace_light_subpath(
         let correction =
             shading_normal_correction(TransportMode::Importance, v.wo, wi, hit.ng, v.sf.frame.z);
         let scattered = throughput * s.weight * correction;
-        let survive = (scattered.max_element() / throughput.max_element()).min(1.0);
+        let survive = (scattered.max_element() / emitted.max_element()).min(1.0);
         if survive.is_nan() || rng.uniform() >= survive {
             return;
         }
@@ -215,8 +221,12 @@ fn connect_to_camera(
     if scene.occluded(&shadow) {
         return;
     }
-    // f |cos_y| carries the cosine at y; the importance's other factors: p_cam / d^2.
-    let value = y.throughput * e.f_cos * (weight * camera_pdf / (dist2 * c.light_paths));
+    // f |cos_y| carries the cosine at y; the importance's other factors: p_cam / d^2; the
+    // medium between y and the pinhole its transmittance.
+    let value = y.throughput
+        * e.f_cos
+        * scene.transmittance(&y.vertex.hit, w, dist)
+        * (weight * camera_pdf / (dist2 * c.light_paths));
     let pixel = (py - b.y0) * b.width() + (px - b.x0);
     splats.push(Splat { pixel, value });
 }

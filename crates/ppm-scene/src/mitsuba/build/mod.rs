@@ -5,6 +5,7 @@
 
 mod bsdf;
 mod emitter;
+mod medium;
 mod sensor;
 pub mod shape;
 mod texture;
@@ -59,7 +60,12 @@ pub fn build(tree: &SceneTree, warnings: &mut Vec<String>) -> Result<SceneBuilde
     for emitter in root.objects("emitter") {
         emitter::add_emitter(tree, emitter, &mut builder, warnings)?;
     }
-    for class in ["medium", "phase", "volume", "film", "sampler", "rfilter"] {
+    // Media defined at the top level are rendered where a shape names them its interior
+    // or exterior (`medium.rs`); any other is not supported.
+    if let Some(o) = medium::unplaced(tree, &root.objects("medium"), &root.objects("shape")) {
+        return Err(unsupported(&tree.objects[o]));
+    }
+    for class in ["phase", "volume", "film", "sampler", "rfilter"] {
         if let Some(&o) = root.objects(class).first() {
             return Err(unsupported(&tree.objects[o]));
         }
@@ -125,7 +131,8 @@ fn add_shape(
         [e] => Some(emitter::area_radiance(tree, *e)?),
         _ => return Err(p.error(format!("{} has more than one emitter", p.object.describe()))),
     };
-    for class in ["medium", "texture", "sensor"] {
+    let media = medium::shape_media(&p)?;
+    for class in ["texture", "sensor"] {
         if let Some(&o) = p.objects(class).first() {
             return Err(unsupported(&tree.objects[o]));
         }
@@ -162,6 +169,14 @@ fn add_shape(
             Material::new(Bsdf::diffuse(Vec3::ZERO), le)
                 .named(format!("emitter ({})", tree.objects[index].location)),
         ),
+    };
+    // A shape bounding absorbing media gets a material of its own: its BSDF's with them.
+    let material = if media.is_clear() {
+        material
+    } else {
+        let m = builder.materials[material as usize].clone();
+        let name = format!("{} (with media, {})", m.name, tree.objects[index].location);
+        builder.add_material(m.named(name).with_medium(media))
     };
     match geometry {
         Geometry::Sphere(mut s) => {
