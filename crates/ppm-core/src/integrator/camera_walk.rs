@@ -147,7 +147,8 @@ impl Walk<'_> {
 /// depth limit; returns the radiance gathered (emission picked up, plus what `at_vertex`
 /// added).
 ///
-/// Per vertex: one closest-hit ray; emission weighted by `params.emission`; at the depth limit
+/// Per vertex: one closest-hit ray (a ray that leaves the scene picks up the environment,
+/// [`CameraPath::escaped`], and ends the walk); emission weighted by `params.emission`; at the depth limit
 /// the walk ends; otherwise `at_vertex` decides, and on [`Next::Scatter`] the path continues by
 /// sampling that BSDF in radiance mode, throughput *= f |cos| / pdf, with Russian roulette
 /// after `params.rr_depth` bounces ([`CameraPath::scatter`]).
@@ -172,6 +173,8 @@ where
     for depth in 0..=params.max_depth {
         w.counters.rays += 1;
         let Some(hit) = scene.intersect(&ray) else {
+            let escaped = w.path.escaped(scene, ray.dir, params.emission);
+            w.add(escaped);
             break;
         };
         w.length += hit.t;
