@@ -20,6 +20,7 @@
 
 mod build;
 mod content_hash;
+mod environment;
 mod error;
 pub mod ior;
 mod light_area;
@@ -30,6 +31,7 @@ pub mod mtl;
 mod nesting;
 pub mod obj;
 pub mod ply;
+pub mod radiance_map;
 pub mod serialized;
 mod values;
 mod yaml;

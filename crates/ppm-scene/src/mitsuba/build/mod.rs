@@ -4,6 +4,7 @@
 //! error naming it and its place ([`unsupported`]), never dropped.
 
 mod bsdf;
+mod environment;
 mod sensor;
 pub mod shape;
 
@@ -57,7 +58,7 @@ pub fn build(tree: &SceneTree, warnings: &mut Vec<String>) -> Result<SceneBuilde
         add_shape(tree, shape, &mut builder, &mut materials, warnings)?;
     }
     for emitter in root.objects("emitter") {
-        add_emitter(tree, emitter, &mut builder)?;
+        add_emitter(tree, emitter, &mut builder, warnings)?;
     }
     for class in ["medium", "phase", "volume", "film", "sampler", "rfilter"] {
         if let Some(&o) = root.objects(class).first() {
@@ -216,11 +217,13 @@ fn area_radiance(tree: &SceneTree, index: usize) -> Result<Vec3, LoadError> {
 }
 
 /// A top-level emitter: `point` (`intensity` in W/sr, default 1; at `position`, or the
-/// origin moved by `to_world`). Area emitters belong to shapes.
+/// origin moved by `to_world`), `constant` and `envmap` (`environment.rs`). Area emitters
+/// belong to shapes.
 fn add_emitter(
     tree: &SceneTree,
     index: usize,
     builder: &mut SceneBuilder,
+    warnings: &mut Vec<String>,
 ) -> Result<(), LoadError> {
     let p = Props::new(tree, index);
     match p.object.plugin.as_str() {
@@ -239,6 +242,7 @@ fn add_emitter(
             Ok(())
         }
         "area" => Err(p.error("emitter `area` must be nested in a <shape>")),
+        "constant" | "envmap" => environment::add(tree, index, builder, warnings),
         _ => Err(unsupported(p.object)),
     }
 }
