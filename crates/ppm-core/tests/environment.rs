@@ -218,6 +218,11 @@ pub fn sun_and_sky_map() -> LatLongMap {
 /// A 4 x 4 diffuse floor at y = 0 and a diffuse sphere resting on it under the sun-and-sky
 /// map, rotated 20 degrees about the vertical.
 fn sunny_floor(resolution: u32) -> Scene {
+    sunny_floor_of_size(resolution, 4.0)
+}
+
+/// [`sunny_floor`] with a floor `size` units wide.
+fn sunny_floor_of_size(resolution: u32, size: f32) -> Scene {
     let camera = Camera::new(
         Vec3::new(0.0, 1.2, 3.0),
         Vec3::new(0.0, 0.3, 0.0),
@@ -233,9 +238,9 @@ fn sunny_floor(resolution: u32) -> Scene {
         Vec3::ZERO,
     ));
     b.add_mesh(TriangleMesh::quad(
-        Vec3::new(-2.0, 0.0, -2.0),
-        Vec3::Z * 4.0,
-        Vec3::X * 4.0,
+        Vec3::new(-0.5 * size, 0.0, -0.5 * size),
+        Vec3::Z * size,
+        Vec3::X * size,
         floor,
     ));
     b.add_sphere(Sphere::new(Vec3::new(0.0, 0.5, 0.0), 0.5, ball));
@@ -285,5 +290,68 @@ fn every_algorithm_agrees_with_the_path_tracer_under_a_sun_and_sky_map() {
             }
             _ => assert_agrees_with_pt("sun and sky", &label, &pt, &other, Some(0.02), 2.0),
         }
+    }
+}
+
+/// Of `n` light paths of `scene`'s lights: the fraction whose first hit is on the geometry,
+/// the fraction whose first hit the camera sees (inside the image, unoccluded), and the
+/// fraction of those within the square |x|, |z| <= 2 (world coordinates) around the
+/// sphere, each with its standard error.
+fn landing_fractions(scene: &Scene, n: u32) -> [(f64, f64); 3] {
+    let mut rng = ppm_core::sampling::Rng::new(11, 0, 0);
+    let (mut hit, mut seen, mut near) = (0u32, 0u32, 0u32);
+    for _ in 0..n {
+        let (u_light, u_pos, u_dir) = (rng.uniform(), rng.uniform2(), rng.uniform2());
+        let Some(s) = scene.sample_emission(u_light, u_pos, u_dir) else {
+            continue;
+        };
+        let Some(h) = scene.intersect(&ppm_core::geometry::Ray::new(s.ray_origin, s.dir)) else {
+            continue;
+        };
+        hit += 1;
+        if scene.camera.raster_position(h.p).is_some() {
+            let to_camera = ppm_core::geometry::Ray::spawn_to(h.p, h.ng, Vec3::ZERO, Vec3::ZERO);
+            // The stored scene is camera-relative: the camera is at the origin.
+            if !scene.occluded(&to_camera) && h.ng.dot(-h.p) > 0.0 {
+                seen += 1;
+                let world = h.p + scene.origin;
+                near += (world.x.abs() <= 2.0 && world.z.abs() <= 2.0) as u32;
+            }
+        }
+    }
+    [hit, seen, near].map(|k| {
+        let p = k as f64 / n as f64;
+        (p, (p * (1.0 - p) / n as f64).sqrt())
+    })
+}
+
+#[test]
+fn the_share_of_environment_photons_the_camera_sees_is_the_visible_cross_section() {
+    // The unit sphere under the constant sky, from 4 away: a third of the light paths hit
+    // it (pi 1^2 / pi R^2, R = sqrt(3) 1.001), spread uniformly over it, and the camera sees
+    // the cap within cos theta > 1/4 of the sphere's area: 2 pi (1 - 1/4) / (4 pi) = 3/8.
+    let scene = sphere_under_sky(16);
+    let [(hit, hit_se), (seen, seen_se), _] = landing_fractions(&scene, 400_000);
+    let r2 = 3.0 * 1.001f64.powi(2);
+    eprintln!("sphere: hit {hit} +- {hit_se}, seen {seen} +- {seen_se}");
+    assert!((hit - 1.0 / r2).abs() < 5.0 * hit_se, "{hit}");
+    assert!((seen - 0.375 / r2).abs() < 5.0 * seen_se, "{seen}");
+}
+
+#[test]
+fn a_larger_ground_leaves_fewer_environment_photons_in_view() {
+    // The same sphere on grounds of 4, 40 and 400 units under the sun-and-sky map: the disk
+    // of origins covers the whole ground, so the share of photons the camera sees around
+    // the sphere (the 4 x 4 square under it) falls about as the inverse square of the
+    // ground's size (numbers in docs/environment.md).
+    let mut seen = Vec::new();
+    for size in [4.0f32, 40.0, 400.0] {
+        let scene = sunny_floor_of_size(12, size);
+        let [(hit, _), (anywhere, _), (s, se)] = landing_fractions(&scene, 400_000);
+        eprintln!("ground {size}: hit {hit:.4}, seen {anywhere:.5}, seen near the sphere {s:.6} +- {se:.6}");
+        seen.push((s, se));
+    }
+    for pair in seen.windows(2) {
+        assert!(pair[1].0 * 20.0 < pair[0].0 + 5.0 * pair[0].1, "{seen:?}");
     }
 }

@@ -173,8 +173,12 @@ where
     for depth in 0..=params.max_depth {
         w.counters.rays += 1;
         let Some(hit) = scene.intersect(&ray) else {
+            // Added only when there is something to add, so that scenes without an
+            // environment keep their sums bit for bit.
             let escaped = w.path.escaped(scene, ray.dir, params.emission);
-            w.add(escaped);
+            if escaped != Vec3::ZERO {
+                w.add(escaped);
+            }
             break;
         };
         w.length += hit.t;

@@ -77,7 +77,10 @@ impl CameraPass<'_> {
         while edges < self.max_edges {
             counters.rays += 1;
             let Some(hit) = scene.intersect(&ray) else {
-                result += throughput * self.escaped(ray.dir, edges, &state, specular_path);
+                let escaped = self.escaped(ray.dir, edges, &state, specular_path);
+                if escaped != Vec3::ZERO {
+                    result += throughput * escaped;
+                }
                 break;
             };
             edges += 1;
