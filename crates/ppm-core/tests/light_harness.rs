@@ -15,7 +15,10 @@
 //!   emission samples carry (flux pdf_dir), integrates over the sphere to `power()`, and
 //!   its emission directions follow `pdf_emission`;
 //! - `le` is one-sided (Lambertian: constant on the side the normal points to, zero on the
-//!   other), zero for a delta light, and agrees with the emission samples' flux.
+//!   other), zero for a delta light, and agrees with the emission samples' flux;
+//! - a light at infinity (an environment) gives every point the same `le_infinite`, whose
+//!   `pdf_infinite` is `pdf_direct` toward it, and its emission samples carry L over their
+//!   densities from origins upstream of the scene.
 //!
 //! The geometry a direction meets is found by [`light_surface`], one exhaustive match: a new
 //! model does not compile here until it says where its surface is. Tests specific to one
