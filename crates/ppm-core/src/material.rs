@@ -1,8 +1,8 @@
 //! A material: a BSDF (whose colours may be textures) and an optional emitted radiance.
 
 use crate::bsdf::Bsdf;
-use crate::texture::{ColourSlot, Texture, TexturedColours};
 use crate::medium::MediumInterface;
+use crate::texture::{ColourSlot, Texture, TexturedColours};
 use glam::{Vec2, Vec3};
 
 /// What a surface does with light: scatter it by `bsdf` and, when `emission` is non-zero,

@@ -215,6 +215,16 @@ impl Distribution1D {
         }
         (i, self.pmf[i])
     }
+
+    /// As [`Distribution1D::sample`], with `u` also remapped into the chosen entry: (index,
+    /// pmf, (u - cdf_i) / pmf_i in [0, 1)), so that one uniform number both chooses the entry
+    /// and places a point inside it (a piecewise-constant density over [0, len)).
+    #[inline]
+    pub fn sample_continuous(&self, u: f32) -> (usize, f32, f32) {
+        let (i, pmf) = self.sample(u);
+        let t = ((u - self.cdf[i]) / pmf).clamp(0.0, 1.0 - f32::EPSILON / 2.0);
+        (i, pmf, if t.is_nan() { 0.5 } else { t })
+    }
 }
 
 #[cfg(test)]

@@ -74,6 +74,8 @@ pub struct Scene {
     /// True if some material bounds an absorbing medium; otherwise every transmittance is 1
     /// and [`Scene::transmittance`] returns at once.
     absorbing: bool,
+    /// Index of the environment light ([`LightKind::Infinite`]), if the scene has one.
+    environment: Option<u32>,
 }
 
 /// Collects the parts of a scene, then builds the BVH and the lights.
@@ -216,6 +218,23 @@ impl SceneBuilder {
                 });
             }
         }
+        // One environment at most: a ray that leaves the scene sees one radiance, and the
+        // escaped path's MIS weight is against that light's sampling alone.
+        let infinite: Vec<usize> = (self.lights.iter().enumerate())
+            .filter(|(_, l)| l.kind() == LightKind::Infinite)
+            .map(|(i, _)| i)
+            .collect();
+        if infinite.len() > 1 {
+            return Err(SceneError::InvalidValue {
+                field: format!("light {}", infinite[1]),
+                value: self.lights[infinite[1]].name().to_string(),
+                why: format!(
+                    "a scene has at most one environment light (light {} is one already)",
+                    infinite[0]
+                ),
+            });
+        }
+        let environment = infinite.first().map(|&i| (lights.len() + i) as u32);
         lights.extend_from_slice(&self.lights);
         let weights: Vec<f32> = lights
             .iter()
@@ -232,6 +251,7 @@ impl SceneBuilder {
             defaults: self.defaults,
             origin: origin + self.world_offset,
             prim_light,
+            environment,
         })
     }
 }
@@ -349,6 +369,15 @@ impl Scene {
                 self.light_distribution.pmf(i as usize),
             )
         })
+    }
+
+    /// The environment light ([`LightKind::Infinite`]) and the probability that
+    /// [`Scene::choose_light`] picks it; `None` without one. What a ray that leaves the scene
+    /// sees.
+    #[inline]
+    pub fn environment(&self) -> Option<(&Light, f32)> {
+        let i = self.environment? as usize;
+        Some((&self.lights[i], self.light_distribution.pmf(i)))
     }
 
     /// Total emitted power of all lights, per channel.

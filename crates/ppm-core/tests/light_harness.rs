@@ -15,7 +15,10 @@
 //!   emission samples carry (flux pdf_dir), integrates over the sphere to `power()`, and
 //!   its emission directions follow `pdf_emission`;
 //! - `le` is one-sided (Lambertian: constant on the side the normal points to, zero on the
-//!   other), zero for a delta light, and agrees with the emission samples' flux.
+//!   other), zero for a delta light, and agrees with the emission samples' flux;
+//! - a light at infinity (an environment) gives every point the same `le_infinite`, whose
+//!   `pdf_infinite` is `pdf_direct` toward it, and its emission samples carry L over their
+//!   densities from origins upstream of the scene.
 //!
 //! The geometry a direction meets is found by [`light_surface`], one exhaustive match: a new
 //! model does not compile here until it says where its surface is. Tests specific to one
@@ -24,11 +27,13 @@
 mod common;
 
 use common::{seed, Stats};
+use glam::Mat3;
 use glam::Vec3;
 use ppm_core::geometry::{intersect_triangle, Sphere, Triangle};
-use ppm_core::light::{Light, LightKind, PointLight};
+use ppm_core::light::{EnvironmentLight, EnvironmentMap, LatLongMap, Light, LightKind, PointLight};
 use ppm_core::sampling::{uniform_sphere, Rng};
 use std::f64::consts::PI;
+use std::sync::Arc;
 
 /// Samples per Monte Carlo estimate.
 const SAMPLES: usize = 200_000;
@@ -45,6 +50,9 @@ fn light_surface(light: &Light, p: Vec3, w: Vec3) -> Option<(Vec3, Vec3)> {
             let outward = (q - l.sphere.center).normalize();
             (q, if l.sphere.inward { -outward } else { outward })
         }),
+        // A light at infinity: every direction that it radiates from meets it, its "surface"
+        // facing the point (black directions emit nothing, as the back of an area light).
+        Light::Environment(_) => (light.le_infinite(w) != Vec3::ZERO).then(|| (p + w * 1e4, -w)),
         Light::Point(_) | Light::Spot(_) | Light::Directional(_) => None,
     }
 }
@@ -126,6 +134,22 @@ fn check_sample_matches_pdf(name: &str, light: &Light, points: &[Vec3]) {
                 assert_eq!(light.pdf_direct(p, s.p, s.n), 0.0, "{name}");
                 // The intensity it gives is checked against emission in
                 // `check_delta_intensity`.
+            } else if light.kind() == LightKind::Infinite {
+                // A direction, not a point: `pdf_infinite` of the sampled direction bit for
+                // bit (what an escaping camera path is weighted with); `pdf_direct` of the
+                // far point gets the direction back only to rounding.
+                assert_eq!(
+                    light.pdf_infinite(s.wi).to_bits(),
+                    s.pdf.to_bits(),
+                    "{name}: pdf_infinite of a sample from {p}"
+                );
+                let pdf = light.pdf_direct(p, s.p, s.n);
+                assert!(
+                    (pdf - s.pdf).abs() <= 1e-3 * s.pdf,
+                    "{name}: {pdf} vs {s:?}"
+                );
+                assert_eq!(s.li, light.le_infinite(s.wi), "{name}");
+                weighted.push(g(s.wi) / s.pdf as f64);
             } else {
                 assert_eq!(
                     light.pdf_direct(p, s.p, s.n).to_bits(),
@@ -376,6 +400,10 @@ fn check_pdf_emission(name: &str, light: &Light) {
 /// emission samples carry it: flux = le pi / pdf_pos (pi A Le with pdf_pos = 1/A).
 fn check_le_one_sided(name: &str, light: &Light) {
     let mut rng = Rng::new(seed(name), 4, 0);
+    if light.kind() == LightKind::Infinite {
+        check_le_infinite(name, light, &mut rng);
+        return;
+    }
     for _ in 0..20_000 {
         let s = light.sample_emission(rng.uniform2(), rng.uniform2());
         let w = uniform_sphere(rng.uniform2());
@@ -398,6 +426,45 @@ fn check_le_one_sided(name: &str, light: &Light) {
                 s.flux
             );
         }
+    }
+}
+
+/// A light at infinity radiates L(w) from every direction, the same seen from every point:
+/// `le(n, -w)` is `le_infinite(w)` (what a ray escaping along w sees) whatever `n`, and
+/// `pdf_infinite(w)` is `pdf_direct` toward w; its emission samples carry L(-dir) over the
+/// densities they were drawn with (flux = L / (pdf_pos pdf_dir), the disk perpendicular to
+/// the direction), from origins upstream of the scene's bounding sphere (the disk's area is
+/// 1 / pdf_pos, its centre R from the sphere's centre).
+fn check_le_infinite(name: &str, light: &Light, rng: &mut Rng) {
+    for _ in 0..20_000 {
+        let w = uniform_sphere(rng.uniform2());
+        let le = light.le_infinite(w);
+        assert!(le.is_finite() && le.min_element() >= 0.0, "{name}: {le}");
+        assert_eq!(light.le(Vec3::ZERO, -w), le, "{name}");
+        assert_eq!(light.le(Vec3::X, -w), le, "{name}: le depends on n");
+        let pdf = light.pdf_direct(Vec3::ZERO, w * 10.0, Vec3::ZERO);
+        let rel = (pdf - light.pdf_infinite(w)).abs() / pdf.max(1e-6);
+        assert!(rel <= 1e-3, "{name}: pdf_direct {pdf} vs pdf_infinite");
+        let s = light.sample_emission(rng.uniform2(), rng.uniform2());
+        if s.flux == Vec3::ZERO {
+            continue;
+        }
+        let expected = light.le_infinite(-s.dir) / (s.pdf_pos * s.pdf_dir);
+        assert!(
+            (s.flux - expected).abs().max_element() <= 1e-5 * expected.max_element(),
+            "{name}: flux {} vs L / (pdf_pos pdf_dir) = {expected}",
+            s.flux
+        );
+        // Every origin lies on a plane R (the disk's radius) upstream of the sphere's
+        // centre, which the test lights put inside the box [-1, 2] x [-1, 1] x [-1, 1].
+        let radius = (1.0 / (std::f32::consts::PI * s.pdf_pos)).sqrt();
+        let centre = Vec3::new(0.5, 0.0, 0.0);
+        let along = (s.ray_origin - centre).dot(s.dir);
+        assert!(
+            (along + radius).abs() <= 1e-4 * radius,
+            "{name}: origin {} not upstream of the scene",
+            s.ray_origin
+        );
     }
 }
 
@@ -554,4 +621,48 @@ light_harness! {
         Vec3::ZERO,
         Vec3::new(2.0, -1.0, 1.0),           // a corner of the bounds
     ],
+    environment_constant: environment_constant() => [
+        Vec3::ZERO,
+        Vec3::new(2.0, -1.0, 1.0),
+    ],
+    environment_image: environment_image() => [
+        Vec3::ZERO,
+        Vec3::new(-1.0, 0.5, 0.3),
+    ],
+}
+
+/// The bounds the lights at infinity are preprocessed with: the box [-1, 2] x [-1, 1] x
+/// [-1, 1] (`check_le_infinite` knows its centre).
+const BOUNDS: (Vec3, Vec3) = (Vec3::new(-1.0, -1.0, -1.0), Vec3::new(2.0, 1.0, 1.0));
+
+/// A constant environment of radiance (0.5, 1, 2).
+fn environment_constant() -> Light {
+    let map = EnvironmentMap::Constant(Vec3::new(0.5, 1.0, 2.0));
+    let mut light = Light::Environment(EnvironmentLight::new(map, 1.5, Mat3::IDENTITY).unwrap());
+    light.preprocess(BOUNDS);
+    light
+}
+
+/// A 16 x 8 map with nothing symmetric about it: a sky brightening toward the top and
+/// coloured along u, a bright 1-texel "sun", and a black band (zero luminance: never
+/// sampled, pdf 0), rotated 30 degrees about x and 70 about y.
+fn environment_image() -> Light {
+    let (w, h) = (16, 8);
+    let texels = (0..w * h)
+        .map(|k| {
+            let (x, y) = ((k % w) as f32, (k / w) as f32);
+            if y == 5.0 {
+                Vec3::ZERO
+            } else if (x, y) == (11.0, 2.0) {
+                Vec3::new(400.0, 300.0, 200.0)
+            } else {
+                Vec3::new(0.2 + 0.05 * x, 0.3, 1.0 - 0.1 * y)
+            }
+        })
+        .collect();
+    let map = EnvironmentMap::Image(Arc::new(LatLongMap::new(w, h, texels).unwrap()));
+    let rotation = Mat3::from_rotation_y(70f32.to_radians()) * Mat3::from_rotation_x(0.5236);
+    let mut light = Light::Environment(EnvironmentLight::new(map, 0.8, rotation).unwrap());
+    light.preprocess(BOUNDS);
+    light
 }

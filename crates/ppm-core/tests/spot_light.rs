@@ -257,7 +257,7 @@ fn a_moved_and_scaled_delta_light_lights_the_moved_points_alike() {
             (0.01, Vec3::X),
             (40.0, Vec3::ZERO),
         ] {
-            let mut moved = light;
+            let mut moved = light.clone();
             moved.transform(scale, offset);
             assert_eq!(moved.kind(), light.kind());
             for _ in 0..200 {

@@ -220,7 +220,7 @@ fn power_is_irradiance_times_the_disk_over_the_bounding_sphere_and_follows_the_s
     );
     // Scaled by 2 and moved: the same irradiance, the disk twice as wide (power x4), from
     // the same direction.
-    let mut moved = *sun;
+    let mut moved = sun.clone();
     moved.transform(2.0, Vec3::new(5.0, -3.0, 1.0));
     let p = Vec3::new(5.0, -3.0, 1.0);
     let (a, b) = (

@@ -230,7 +230,7 @@ pub fn build(
             .any(|mesh| mesh.materials.iter().any(|&m| emits(m)));
     if !has_light {
         warnings.push(format!(
-            "{}: the scene has no light (no emissive material on any object, no point, spot or directional light): the image will be black",
+            "{}: the scene has no light (no emissive material on any object, no point, spot, directional or environment light): the image will be black",
             path.display()
         ));
     }
@@ -248,6 +248,10 @@ fn light(l: &LightDesc, field: &str, origin: DVec3, path: &Path) -> Result<Light
         ("look_at", l.look_at.is_some()),
         ("cone_angle", l.cone_angle.is_some()),
         ("falloff_start", l.falloff_start.is_some()),
+        ("color", l.color.is_some()),
+        ("file", l.file.is_some()),
+        ("scale", l.scale.is_some()),
+        ("rotate", l.rotate.is_some()),
     ];
     let allowed: &[&str] = match l.kind {
         LightType::Point => &["position", "intensity"],
@@ -260,6 +264,7 @@ fn light(l: &LightDesc, field: &str, origin: DVec3, path: &Path) -> Result<Light
             "falloff_start",
         ],
         LightType::Directional => &["direction", "irradiance"],
+        LightType::Environment => &["color", "file", "scale", "rotate"],
     };
     check_fields(path, field, kind, &present, allowed)?;
     let invalid = |name: &str, why: String| LoadError::invalid(path, format!("{field}{name}"), why);
@@ -277,6 +282,7 @@ fn light(l: &LightDesc, field: &str, origin: DVec3, path: &Path) -> Result<Light
             .ok_or_else(|| invalid("", format!("a {kind} needs `intensity`")))
     };
     match l.kind {
+        LightType::Environment => crate::environment::light(l, field, path),
         LightType::Point => Ok(Light::Point(PointLight {
             position: position()?,
             intensity: intensity()?,
@@ -366,6 +372,7 @@ fn light_type_name(kind: LightType) -> &'static str {
         LightType::Point => "point light",
         LightType::Spot => "spot light",
         LightType::Directional => "directional light",
+        LightType::Environment => "environment light",
     }
 }
 
@@ -581,7 +588,12 @@ pub(crate) fn check_fields(
             path,
             field,
             format!(
-                "`{name}` does not apply to a {what} (it takes `type`, {})",
+                "`{name}` does not apply to {} {what} (it takes `type`, {})",
+                if what.starts_with(['a', 'e', 'i', 'o', 'u']) {
+                    "an"
+                } else {
+                    "a"
+                },
                 allowed.join(", ")
             ),
         )),

@@ -25,7 +25,9 @@ use ppm_core::bsdf::{
 use ppm_core::camera::Camera;
 use ppm_core::geometry::{Sphere, TriangleMesh};
 use ppm_core::integrator::Algorithm;
-use ppm_core::light::{Light, PointLight, SphereLight, SpotLight, TriangleLight};
+use ppm_core::light::{
+    EnvironmentLight, EnvironmentMap, Light, PointLight, SphereLight, SpotLight, TriangleLight,
+};
 use ppm_core::material::Material;
 use ppm_core::medium::MediumInterface;
 use ppm_core::scene::{RenderDefaults, SceneBuilder};
@@ -424,6 +426,7 @@ impl Fingerprint {
                 .field("intensity", |f| f.vec3(*intensity))
                 .end(),
             Light::Spot(spot) => self.spot(spot),
+            Light::Environment(light) => self.environment(light),
             // The disk of origins is set from the geometry when the scene is built; the
             // file gives the direction and the irradiance.
             Light::Directional(light) => self
@@ -454,6 +457,28 @@ impl Fingerprint {
                 .field("prim", |f| f.u32(*prim))
                 .end(),
         }
+    }
+
+    /// An environment light: its map (the constant colour, or the image's size and every
+    /// texel), its scale and its rotation (row by row); the bounding sphere comes from the
+    /// geometry when the scene is built.
+    fn environment(&mut self, light: &EnvironmentLight) {
+        let (map, scale, rotation) = light.parts();
+        let rows = rotation.transpose().to_cols_array_2d().map(Vec3::from);
+        let record = self.record("EnvironmentLight");
+        let record = match map {
+            EnvironmentMap::Constant(c) => record.field("color", |f| f.vec3(*c)),
+            EnvironmentMap::Image(m) => {
+                let (w, h) = m.size();
+                record
+                    .field("size", |f| f.list(&[w as u32, h as u32], |f, x| f.u32(*x)))
+                    .field("texels", |f| f.list(m.texels(), |f, t| f.vec3(*t)))
+            }
+        };
+        record
+            .field("scale", |f| f.f32(scale))
+            .field("rotation", |f| f.list(&rows, |f, r| f.vec3(*r)))
+            .end();
     }
 
     fn spot(&mut self, s: &SpotLight) {

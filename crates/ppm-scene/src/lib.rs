@@ -21,6 +21,7 @@
 
 mod build;
 mod content_hash;
+mod environment;
 mod error;
 pub mod fov;
 pub mod image_file;
@@ -37,6 +38,7 @@ mod object_transform;
 pub mod pbrt;
 pub mod placement;
 pub mod ply;
+pub mod radiance_map;
 pub mod serialized;
 mod texture_desc;
 mod values;

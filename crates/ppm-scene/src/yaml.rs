@@ -7,8 +7,8 @@
 use crate::ior::Ior;
 use crate::texture_desc::Colour;
 use crate::values::{
-    Alpha, Count, Depth, FieldOfView, GatherRadius, NonNegative, Num, Point, Positive, Resolution,
-    Triple,
+    Alpha, Count, Depth, FieldOfView, Finite, GatherRadius, NonNegative, Num, Point, Positive,
+    Resolution, Triple,
 };
 use ppm_core::integrator::Algorithm;
 use serde::de::{self, DeserializeSeed, Deserializer, MapAccess, Visitor};
@@ -137,6 +137,7 @@ pub enum LightType {
     Point,
     Spot,
     Directional,
+    Environment,
 }
 
 /// One light without geometry; which fields apply, and which are required, depends on
@@ -159,6 +160,24 @@ pub struct LightDesc {
     /// A spot light's cone angle and falloff start, degrees from the axis.
     pub cone_angle: Option<Num<Positive>>,
     pub falloff_start: Option<Num<NonNegative>>,
+    /// An environment light's constant radiance, W/(m^2 sr) per channel.
+    pub color: Option<Triple<NonNegative>>,
+    /// An environment light's lat-long radiance map (EXR, HDR or PNG), relative to the scene
+    /// file; its texels are radiance in W/(m^2 sr).
+    pub file: Option<String>,
+    /// Multiplies an environment light's radiance (default 1).
+    pub scale: Option<Num<NonNegative>>,
+    /// Rotates an environment light's map: `angle` degrees about `axis` (right-handed).
+    pub rotate: Option<RotateDesc>,
+}
+
+/// A rotation by `angle` degrees about `axis` (right-handed: counter-clockwise looking down
+/// the axis), Mitsuba's `<rotate>`.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RotateDesc {
+    pub axis: Point,
+    pub angle: Num<Finite>,
 }
 
 /// `render:` defaults the command line may override.

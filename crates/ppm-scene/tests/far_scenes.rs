@@ -103,7 +103,8 @@ fn a_scene_far_from_the_origin_loads_as_it_does_at_the_origin() {
             near.spheres[0].center - near_camera,
             "the sphere",
         );
-        let (Light::Point(far_point), Light::Point(near_point)) = (far.lights[0], near.lights[0])
+        let (Light::Point(far_point), Light::Point(near_point)) =
+            (far.lights[0].clone(), near.lights[0].clone())
         else {
             panic!("{:?}", far.lights);
         };
@@ -112,7 +113,8 @@ fn a_scene_far_from_the_origin_loads_as_it_does_at_the_origin() {
             near_point.position - near_camera,
             "the point light",
         );
-        let (Light::Spot(far_spot), Light::Spot(near_spot)) = (far.lights[1], near.lights[1])
+        let (Light::Spot(far_spot), Light::Spot(near_spot)) =
+            (far.lights[1].clone(), near.lights[1].clone())
         else {
             panic!("{:?}", far.lights);
         };

@@ -6,7 +6,7 @@ use super::shading::ShadingFrame;
 use super::LightStrategy;
 use crate::bsdf::{Bsdf, Lobe, TransportMode};
 use crate::geometry::{Hit, Ray};
-use crate::sampling::Rng;
+use crate::sampling::{power_heuristic, Rng};
 use crate::scene::Scene;
 use glam::{Vec2, Vec3};
 
@@ -81,6 +81,30 @@ impl CameraPath {
             }
         };
         material.emission * weight
+    }
+
+    /// The radiance the path picks up when it leaves the scene along `dir` (unit), before the
+    /// throughput: the environment's L(dir) (zero without one), counted fully at the camera
+    /// and after a delta bounce; after a non-specular bounce weighted as emission is, the
+    /// power heuristic between the BSDF's pdf and the light's p_light p(dir) (Veach 1997,
+    /// sec. 9.2; pbrt-v4's `PathIntegrator` on an escaped ray).
+    #[inline(always)]
+    pub fn escaped(&self, scene: &Scene, dir: Vec3, strategy: LightStrategy) -> Vec3 {
+        let Some((light, p_light)) = scene.environment() else {
+            return Vec3::ZERO;
+        };
+        let weight = if self.prev_specular {
+            1.0
+        } else {
+            match strategy {
+                LightStrategy::Mis => {
+                    power_heuristic(self.prev_pdf, p_light * light.pdf_infinite(dir))
+                }
+                LightStrategy::LightOnly => 0.0,
+                LightStrategy::BsdfOnly => 1.0,
+            }
+        };
+        light.le_infinite(dir) * weight
     }
 
     /// Continues the path at `hit` by sampling `bsdf` (radiance mode): throughput *= f |cos| /

@@ -147,8 +147,9 @@ impl Walk<'_> {
 /// depth limit; returns the radiance gathered (emission picked up, plus what `at_vertex`
 /// added).
 ///
-/// Per vertex: one closest-hit ray, the throughput times the transmittance of the medium
-/// the segment crossed ([`Scene::transmittance`]); emission weighted by `params.emission`; at the depth limit
+/// Per vertex: one closest-hit ray (a ray that leaves the scene picks up the environment,
+/// [`CameraPath::escaped`], and ends the walk), the throughput times the transmittance of the
+/// medium the segment crossed ([`Scene::transmittance`]); emission weighted by `params.emission`; at the depth limit
 /// the walk ends; otherwise `at_vertex` decides, and on [`Next::Scatter`] the path continues by
 /// sampling that BSDF in radiance mode, throughput *= f |cos| / pdf, with Russian roulette
 /// after `params.rr_depth` bounces ([`CameraPath::scatter`]).
@@ -173,6 +174,12 @@ where
     for depth in 0..=params.max_depth {
         w.counters.rays += 1;
         let Some(hit) = scene.intersect(&ray) else {
+            // Added only when there is something to add, so that scenes without an
+            // environment keep their sums bit for bit.
+            let escaped = w.path.escaped(scene, ray.dir, params.emission);
+            if escaped != Vec3::ZERO {
+                w.add(escaped);
+            }
             break;
         };
         w.length += hit.t;

@@ -74,19 +74,7 @@ impl DirectionalLight {
     /// enlarged by 0.1% so that no geometry touches the disk of origins; a scene without
     /// extent (no geometry) gets a unit sphere, so the power stays finite and positive.
     pub fn preprocess(&mut self, bounds: (Vec3, Vec3)) {
-        let (lo, hi) = bounds;
-        let radius = 0.5 * (hi - lo).length() * 1.001;
-        if radius.is_finite() && radius > 0.0 {
-            self.center = 0.5 * (lo + hi);
-            self.radius = radius;
-        } else {
-            self.center = if (lo + hi).is_finite() {
-                0.5 * (lo + hi)
-            } else {
-                Vec3::ZERO
-            };
-            self.radius = 1.0;
-        }
+        (self.center, self.radius) = bounding_sphere(bounds);
     }
 
     /// Moves the light's bounding sphere with the scene (the direction does not change).
@@ -156,5 +144,20 @@ impl DirectionalLight {
             pdf_pos,
             pdf_dir: 1.0,
         }
+    }
+}
+
+/// The sphere (centre, radius) around the scene's bounds (min, max), enlarged by 0.1% so that
+/// no geometry touches a disk of origins on it; a scene without extent (no geometry) gets a
+/// unit sphere, so the power of a light at infinity stays finite and positive.
+pub(super) fn bounding_sphere(bounds: (Vec3, Vec3)) -> (Vec3, f32) {
+    let (lo, hi) = bounds;
+    let radius = 0.5 * (hi - lo).length() * 1.001;
+    if radius.is_finite() && radius > 0.0 {
+        (0.5 * (lo + hi), radius)
+    } else if (lo + hi).is_finite() {
+        (0.5 * (lo + hi), 1.0)
+    } else {
+        (Vec3::ZERO, 1.0)
     }
 }

@@ -22,6 +22,13 @@
 //!   irradiance); its emission leaves a disk covering the scene's bounding sphere along its
 //!   one direction: [`Light::pdf_emission`] is (1/(pi R^2), 1) and Phi = E pi R^2. It needs
 //!   the scene's bounds: [`Light::preprocess`], once, when the scene is built.
+//! - An environment light ([`EnvironmentLight`], [`LightKind::Infinite`]) radiates L(w) from
+//!   every direction at infinity: [`Light::le_infinite`] is what a ray escaping the scene
+//!   along w sees and [`Light::pdf_infinite`] the density with which
+//!   [`Light::sample_direct`] picks that direction; its emission leaves a disk over the
+//!   scene's bounding sphere as the directional light's does, in a sampled direction:
+//!   [`Light::pdf_emission`] is (1/(pi R^2), p(-w)) and Phi = pi R^2 (integral of L over the
+//!   sphere). A scene has at most one.
 //! - [`Light::pdf_direct`] is the solid-angle density with which [`Light::sample_direct`]
 //!   produces a point, computed by the same expressions, so the two agree exactly.
 //! - [`Light::sample_emission`] starts a light path; the mean of its `flux` is
@@ -32,12 +39,16 @@
 
 mod area;
 mod directional;
+mod environment;
+mod envmap;
 mod point;
 mod sphere;
 mod spot;
 mod triangle;
 
 pub use directional::DirectionalLight;
+pub use environment::{EnvironmentLight, EnvironmentMap};
+pub use envmap::{direction_to_uv, uv_to_direction, LatLongMap, MapError};
 pub use point::PointLight;
 pub use sphere::SphereLight;
 pub use spot::SpotLight;
@@ -54,7 +65,7 @@ use glam::{Vec2, Vec3};
 pub const MAX_LIGHT_POWER: f32 = 1e20;
 
 /// One light of the scene.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 pub enum Light {
     /// An emissive triangle.
     Triangle(TriangleLight),
@@ -66,6 +77,9 @@ pub enum Light {
     Spot(SpotLight),
     /// A directional light, the sun (a delta in direction, from infinitely far).
     Directional(DirectionalLight),
+    /// An environment light, radiance from every direction at infinity (a constant colour
+    /// or a lat-long image).
+    Environment(EnvironmentLight),
 }
 
 /// What sort of light a model is, as pbrt-v4's `LightType` says it: what finds it and what
@@ -80,7 +94,8 @@ pub enum LightKind {
     DeltaDirection,
     /// Emits from the surface of scene geometry (emissive triangles and spheres).
     Area,
-    /// Emits from infinitely far in every direction (an environment). No model yet.
+    /// Emits from infinitely far in every direction (an environment light): camera paths
+    /// that leave the scene find it, and light sampling does.
     Infinite,
 }
 
@@ -172,6 +187,7 @@ impl Light {
             Light::Triangle(_) | Light::Sphere(_) => LightKind::Area,
             Light::Point(_) | Light::Spot(_) => LightKind::DeltaPosition,
             Light::Directional(_) => LightKind::DeltaDirection,
+            Light::Environment(_) => LightKind::Infinite,
         }
     }
 
@@ -185,6 +201,7 @@ impl Light {
             Light::Point(light) => light.power(),
             Light::Spot(light) => light.power(),
             Light::Directional(light) => light.power(),
+            Light::Environment(light) => light.power(),
         }
     }
 
@@ -194,6 +211,7 @@ impl Light {
     pub fn preprocess(&mut self, bounds: (Vec3, Vec3)) {
         match self {
             Light::Directional(light) => light.preprocess(bounds),
+            Light::Environment(light) => light.preprocess(bounds),
             Light::Triangle(_) | Light::Sphere(_) | Light::Point(_) | Light::Spot(_) => {}
         }
     }
@@ -210,6 +228,7 @@ impl Light {
             Light::Point(light) => light.position += offset,
             Light::Spot(light) => light.position += offset,
             Light::Directional(light) => light.translate(offset),
+            Light::Environment(light) => light.translate(offset),
         }
     }
 
@@ -241,6 +260,7 @@ impl Light {
                 light.intensity *= scale2;
             }
             Light::Directional(light) => light.transform(scale, offset),
+            Light::Environment(light) => light.transform(scale, offset),
         }
     }
 
@@ -252,6 +272,7 @@ impl Light {
             Light::Point(_) => "point light",
             Light::Spot(_) => "spot light",
             Light::Directional(_) => "directional light",
+            Light::Environment(_) => "environment light",
         }
     }
 
@@ -268,6 +289,13 @@ impl Light {
                 light.cone_angle().to_degrees()
             ),
             Light::Directional(light) => format!("irradiance {}", light.irradiance),
+            Light::Environment(light) => match light.parts() {
+                (EnvironmentMap::Constant(c), scale, _) => format!("radiance {c}, scale {scale}"),
+                (EnvironmentMap::Image(m), scale, _) => {
+                    let (w, h) = m.size();
+                    format!("{w}x{h} radiance map, scale {scale}")
+                }
+            },
         }
     }
 
@@ -276,7 +304,9 @@ impl Light {
         match self {
             Light::Triangle(light) => Some(light.prim),
             Light::Sphere(light) => Some(light.prim),
-            Light::Point(_) | Light::Spot(_) | Light::Directional(_) => None,
+            Light::Point(_) | Light::Spot(_) | Light::Directional(_) | Light::Environment(_) => {
+                None
+            }
         }
     }
 
@@ -306,6 +336,10 @@ impl Light {
                 std::f64::consts::PI * (light.radius() as f64).powi(2),
                 light.irradiance.max_element(),
             ),
+            Light::Environment(light) => (
+                std::f64::consts::PI * (light.radius() as f64).powi(2),
+                light.radiance_integral().max_element(),
+            ),
         };
         Err(scale * value as f64)
     }
@@ -327,6 +361,7 @@ impl Light {
             Light::Point(light) => light.sample_direct(p),
             Light::Spot(light) => light.sample_direct(p),
             Light::Directional(light) => light.sample_direct(p),
+            Light::Environment(light) => light.sample_direct(p, u),
         }
     }
 
@@ -337,17 +372,50 @@ impl Light {
         match self {
             Light::Triangle(light) => area::pdf_direct(light.area, p, q, n),
             Light::Sphere(light) => area::pdf_direct(light.sphere.area(), p, q, n),
+            Light::Environment(light) => light.pdf_dir((q - p).normalize_or_zero()),
             Light::Point(_) | Light::Spot(_) | Light::Directional(_) => 0.0,
         }
     }
 
+    /// What a ray leaving the scene along unit direction `w` sees of a light at infinity:
+    /// L(w) for an environment light, zero for every other light (a directional light is a
+    /// delta no ray hits).
+    #[inline]
+    pub fn le_infinite(&self, w: Vec3) -> Vec3 {
+        match self {
+            Light::Environment(light) => light.radiance(w),
+            Light::Triangle(_)
+            | Light::Sphere(_)
+            | Light::Point(_)
+            | Light::Spot(_)
+            | Light::Directional(_) => Vec3::ZERO,
+        }
+    }
+
+    /// The solid-angle density with which [`Light::sample_direct`] picks direction `w` (unit,
+    /// toward the light) of a light at infinity, not counting the choice of the light: the
+    /// MIS weight of a camera path that leaves the scene along `w`. Zero for the others.
+    #[inline]
+    pub fn pdf_infinite(&self, w: Vec3) -> f32 {
+        match self {
+            Light::Environment(light) => light.pdf_dir(w),
+            Light::Triangle(_)
+            | Light::Sphere(_)
+            | Light::Point(_)
+            | Light::Spot(_)
+            | Light::Directional(_) => 0.0,
+        }
+    }
+
     /// Radiance emitted from a point with geometric normal `n` toward direction `w` (unit):
-    /// one-sided for area lights, zero for delta lights.
+    /// one-sided for area lights, zero for delta lights; an environment light sends L(-w)
+    /// toward w from infinitely far (`n` ignored).
     #[inline]
     pub fn le(&self, n: Vec3, w: Vec3) -> Vec3 {
         match self {
             Light::Triangle(light) => area::le(light.le, n, w),
             Light::Sphere(light) => area::le(light.le, n, w),
+            Light::Environment(light) => light.radiance(-w),
             Light::Point(_) | Light::Spot(_) | Light::Directional(_) => Vec3::ZERO,
         }
     }
@@ -358,6 +426,8 @@ impl Light {
     /// uniform direction (pdf 1/(4 pi)), weight 4 pi I. Spot lights: a direction uniform in
     /// the cone, weighted by the falloff (`spot.rs`). Directional lights: a point uniform on
     /// the disk covering the scene (pdf 1/(pi R^2)) and the light's direction, weight E pi R^2.
+    /// Environment lights: a direction by the map's distribution, then a point on the disk
+    /// perpendicular to it, weight L pi R^2 / p(w) (`environment.rs`).
     /// Always inlined (once per light path), with the emitter's sampling inside it
     /// (docs/performance.md, "Inlining").
     #[inline(always)]
@@ -368,6 +438,7 @@ impl Light {
             Light::Point(light) => light.sample_emission(u_dir),
             Light::Spot(light) => light.sample_emission(u_dir),
             Light::Directional(light) => light.sample_emission(u_pos),
+            Light::Environment(light) => light.sample_emission(u_pos, u_dir),
         }
     }
 
@@ -388,6 +459,7 @@ impl Light {
             Light::Point(_) => (1.0, point::PDF_EMISSION_DIR),
             Light::Spot(light) => (1.0, light.pdf_emission_dir(w)),
             Light::Directional(light) => (light.pdf_pos(), 1.0),
+            Light::Environment(light) => (light.pdf_pos(), light.pdf_dir(-w)),
         }
     }
 
@@ -405,6 +477,9 @@ impl Light {
     pub fn pdf_emission_at(&self, ls: &DirectSample, cos: f32) -> f32 {
         match self {
             Light::Directional(light) => light.pdf_pos() * cos,
+            // SmallVCM's BackgroundLight: emission pdf p(wi) / (pi R^2) over next-event's
+            // p(wi), the cosine at the light 1, no distance: |cos| / (pi R^2).
+            Light::Environment(light) => light.pdf_pos() * cos,
             Light::Triangle(_) | Light::Sphere(_) | Light::Point(_) | Light::Spot(_) => {
                 let (_, pdf_dir) = self.pdf_emission(ls.n, -ls.wi);
                 pdf_dir * cos / (ls.dist * ls.dist)

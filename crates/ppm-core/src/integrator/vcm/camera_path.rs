@@ -77,6 +77,10 @@ impl CameraPass<'_> {
         while edges < self.max_edges {
             counters.rays += 1;
             let Some(hit) = scene.intersect(&ray) else {
+                let escaped = self.escaped(ray.dir, edges, &state, specular_path);
+                if escaped != Vec3::ZERO {
+                    result += throughput * escaped;
+                }
                 break;
             };
             edges += 1;
@@ -164,6 +168,32 @@ impl CameraPass<'_> {
             x.specular_path,
             &self.mis,
         )
+    }
+
+    /// The environment a camera subpath finds when it leaves the scene along `dir` after
+    /// `edges` vertices (SmallVCM's GetLightRadiance for its `BackgroundLight`; TR eqs.
+    /// 42-43 with the light at infinity): 1 when seen directly; otherwise next-event
+    /// estimation picks the direction with solid-angle density p_d = p_light p(dir) (no
+    /// distance, and the camera state is not advanced by `arrive`) and a light subpath emits
+    /// it with p_d / (pi R^2), so w_camera = mis(p_d) dVCM + mis(p_d / (pi R^2)) dVC.
+    #[inline]
+    fn escaped(&self, dir: Vec3, edges: u32, state: &SubpathMis, specular_path: bool) -> Vec3 {
+        let Some((light, p_light)) = self.scene.environment() else {
+            return Vec3::ZERO;
+        };
+        let le = light.le_infinite(dir);
+        if edges == 0 || le == Vec3::ZERO {
+            return le;
+        }
+        let (pdf_pos, _) = light.pdf_emission(Vec3::ZERO, -dir);
+        let weight = emission_weight(
+            state,
+            p_light * light.pdf_infinite(dir),
+            pdf_pos,
+            specular_path,
+            &self.mis,
+        );
+        le * weight
     }
 
     /// Next-event estimation, a vertex connection to a light (TR eqs. 44-45): one light

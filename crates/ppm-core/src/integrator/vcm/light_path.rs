@@ -74,11 +74,11 @@ pub(super) fn trace_light_subpath(
     } else {
         emission.n.dot(emission.dir)
     };
-    // A light at infinity (directional) starts the sums from its disk's density and its
-    // first edge has no distance term (`SubpathMis::light_start_at_infinity`).
+    // A light at infinity (directional, environment) starts the sums from its disk's density
+    // and its first edge has no distance term (`SubpathMis::light_start_at_infinity`).
     let at_infinity = light.kind().is_infinite();
     let mut state = if at_infinity {
-        SubpathMis::light_start_at_infinity(emission.pdf_pos)
+        SubpathMis::light_start_at_infinity(emission.pdf_pos, p_light * emission.pdf_dir, delta, c)
     } else {
         SubpathMis::light_start(
             p_light * emission.pdf_pos,

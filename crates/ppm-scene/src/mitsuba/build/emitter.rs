@@ -23,6 +23,7 @@ pub fn add_emitter(
         "spot" => spot(&p, warnings)?,
         "directional" => directional(&p)?,
         "area" => return Err(p.error("emitter `area` must be nested in a <shape>")),
+        "constant" | "envmap" => return super::environment::add(tree, index, builder, warnings),
         _ => return Err(unsupported(p.object)),
     };
     p.finish()?;
@@ -31,7 +32,7 @@ pub fn add_emitter(
 }
 
 /// A non-negative, finite colour of an emitter.
-fn emission(p: &Props, name: &str, default: Option<DVec3>) -> Result<Vec3, LoadError> {
+pub(super) fn emission(p: &Props, name: &str, default: Option<DVec3>) -> Result<Vec3, LoadError> {
     let c = match (p.colour_opt(name, Role::Emission)?, default) {
         (Some(c), _) | (None, Some(c)) => c,
         (None, None) => {

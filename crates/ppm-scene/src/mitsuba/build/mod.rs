@@ -5,6 +5,7 @@
 
 mod bsdf;
 mod emitter;
+mod environment;
 mod medium;
 mod sensor;
 pub mod shape;
@@ -144,7 +145,8 @@ fn add_shape(
         (Some(&b), None) => match materials.bsdfs.get(&b) {
             Some(&m) => m,
             None => {
-                let m = builder.add_material(material(tree, b, warnings, Vec3::ZERO, name(tree, b))?);
+                let m =
+                    builder.add_material(material(tree, b, warnings, Vec3::ZERO, name(tree, b))?);
                 materials.bsdfs.insert(b, m);
                 m
             }

@@ -123,17 +123,30 @@ impl SubpathMis {
         }
     }
 
-    /// A light subpath leaving a light at infinity (a directional light; TR sec. 5.1,
-    /// SmallVCM's `DirectionalLight`): next-event estimation picks its direction with
-    /// probability 1 and the subpath leaves a disk with area density `pdf_pos` (1/(pi R^2);
-    /// the light's choice cancels), so dVCM = mis(1 / pdf_pos); dVC = dVM = 0 (a delta light).
+    /// A light subpath leaving a light at infinity (TR sec. 5.1 and eqs. 48-50; SmallVCM's
+    /// `DirectionalLight` and `BackgroundLight`): next-event estimation picks the direction
+    /// with solid-angle density p_d (times the light's choice; 1 for a directional light) and
+    /// the subpath leaves a disk with area density `pdf_pos` (1/(pi R^2)), so the emission
+    /// pdf is p_e = p_d pdf_pos with p_d = `pdf_dir` (p_light p(w)) and the cosine at the
+    /// light is 1: dVCM = mis(p_d / p_e) = mis(1 / pdf_pos), dVC = mis(1 / p_e) (0 for a
+    /// directional light, a delta no camera subpath hits), dVM = dVC mis(1/eta_VCM).
     /// The first [`SubpathMis::arrive`] must then get distance^2 1: parallel rays reach the
-    /// first vertex with area density pdf_pos |cos|, whatever the distance to the disk.
-    pub fn light_start_at_infinity(pdf_pos: f32) -> Self {
+    /// first vertex with area density p_e |cos|, whatever the distance to the disk.
+    pub fn light_start_at_infinity(
+        pdf_pos: f32,
+        pdf_dir: f32,
+        delta: bool,
+        c: &MisConstants,
+    ) -> Self {
+        let dvc = if delta {
+            0.0
+        } else {
+            mis(1.0 / (pdf_pos * pdf_dir))
+        };
         SubpathMis {
             dvcm: mis(1.0 / pdf_pos),
-            dvc: 0.0,
-            dvm: 0.0,
+            dvc,
+            dvm: dvc * c.vc_weight,
         }
     }
 

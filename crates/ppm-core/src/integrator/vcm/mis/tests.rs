@@ -149,7 +149,7 @@ impl Path {
         // The light subpath's quantities on arriving at x_j (index j, 1..k-1).
         let mut light = vec![SubpathMis::default(); k];
         let mut state = if self.sun {
-            SubpathMis::light_start_at_infinity(self.light_area)
+            SubpathMis::light_start_at_infinity(self.light_area, 1.0, true, c)
         } else {
             SubpathMis::light_start(
                 self.light_area,
