@@ -1,0 +1,77 @@
+//! What a new user meets in a first hour, through the binary: `-q` on a terminal, bare `ppm`,
+//! pbrt's `--outfile`, output folders that do not exist yet, printed numbers, where `-v` says
+//! the scene was found.
+
+mod common;
+
+use common::*;
+use std::fs::File;
+use std::io::Read;
+use std::path::Path;
+use std::process::Stdio;
+
+/// A pseudo-terminal: the master side to read from and the slave side's path.
+struct Pty {
+    master: File,
+    slave: std::path::PathBuf,
+}
+
+/// Opens a pseudo-terminal (POSIX `posix_openpt`, `grantpt`, `unlockpt`, `ptsname`).
+fn open_pty() -> Pty {
+    use std::os::fd::FromRawFd;
+    // SAFETY: plain libc calls on a descriptor this function owns; `ptsname` returns a
+    // NUL-terminated string valid until the next call, copied at once.
+    unsafe {
+        let fd = libc::posix_openpt(libc::O_RDWR | libc::O_NOCTTY);
+        assert!(fd >= 0, "posix_openpt failed");
+        assert_eq!(libc::grantpt(fd), 0);
+        assert_eq!(libc::unlockpt(fd), 0);
+        let name = libc::ptsname(fd);
+        assert!(!name.is_null());
+        let slave = std::ffi::CStr::from_ptr(name).to_str().unwrap().into();
+        Pty {
+            master: File::from_raw_fd(fd),
+            slave,
+        }
+    }
+}
+
+/// Runs `ppm args` in `dir` with stderr on a terminal; returns what the terminal showed.
+fn stderr_on_terminal(dir: &Path, args: &[&str]) -> String {
+    let mut pty = open_pty();
+    let slave = File::options()
+        .read(true)
+        .write(true)
+        .open(&pty.slave)
+        .unwrap();
+    let mut child = ppm(dir)
+        .args(args)
+        .stdout(Stdio::null())
+        .stderr(Stdio::from(slave))
+        .spawn()
+        .unwrap();
+    let status = child.wait().unwrap();
+    assert!(status.success(), "ppm {args:?}: {status:?}");
+    // The slave is closed (the child exited and ours moved into it): read until EIO.
+    let mut shown = Vec::new();
+    let mut buffer = [0u8; 4096];
+    while let Ok(n) = pty.master.read(&mut buffer) {
+        if n == 0 {
+            break;
+        }
+        shown.extend_from_slice(&buffer[..n]);
+    }
+    String::from_utf8_lossy(&shown).into_owned()
+}
+
+/// `-q` draws no progress bar even on a terminal, where the bar is drawn without it.
+#[test]
+fn quiet_draws_no_progress_bar_on_a_terminal() {
+    let dir = tempfile::tempdir().unwrap();
+    tiny_scene(dir.path());
+    let shown = stderr_on_terminal(dir.path(), &["tiny.yml", "-n", "2", "-o", "a"]);
+    assert!(shown.contains("iterations"), "no bar without -q: {shown:?}");
+    let shown = stderr_on_terminal(dir.path(), &["tiny.yml", "-n", "2", "-o", "b", "-q"]);
+    assert!(!shown.contains('['), "a bar under -q: {shown:?}");
+    assert!(shown.trim().is_empty(), "output under -q: {shown:?}");
+}
