@@ -27,6 +27,8 @@ second or more after the first, quits at once without writing).";
     subcommand_negates_reqs = true,
     // `--seed -1` is a value out of range, reported as such, not an unknown option `-1`.
     allow_negative_numbers = true,
+    // Bare `ppm` prints the help, which lists the subcommands, not only `Usage: ppm <SCENE>`.
+    arg_required_else_help = true,
     after_help = AFTER_HELP
 )]
 pub struct Cli {
@@ -68,9 +70,10 @@ pub struct RenderArgs {
     /// refused for ppm, where an iteration is more than a sample (use -n).
     #[arg(long, value_name = "N", conflicts_with = "iterations", value_parser = clap::value_parser!(u64).range(1..), allow_negative_numbers = true)]
     pub spp: Option<u64>,
-    /// Output image: out.png, out.exr or out all write out.png + out.exr
-    /// [default: <scene stem>.png/.exr in the current folder].
-    #[arg(short, long, value_name = "PATH")]
+    /// Output image: out.png, out.exr or out all write out.png + out.exr; a missing folder
+    /// is created [default: <scene stem>.png/.exr in the current folder]. `--outfile`
+    /// (pbrt's name) is the same flag.
+    #[arg(short, long, value_name = "PATH", alias = "outfile")]
     pub output: Option<PathBuf>,
     /// Integrator [default: the scene's `render.algorithm`, else ppm].
     #[arg(short, long, value_parser = algorithm_parser())]
@@ -253,8 +256,9 @@ pub struct MergeArgs {
     /// The EXRs of the parts (`--shard` renders or consecutive `--resume` slices), any order.
     #[arg(required = true, value_name = "PART.exr")]
     pub parts: Vec<PathBuf>,
-    /// Output image: out.png, out.exr or out all write out.png + out.exr.
-    #[arg(short, long, value_name = "PATH", required = true)]
+    /// Output image: out.png, out.exr or out all write out.png + out.exr; a missing folder
+    /// is created. `--outfile` (pbrt's name) is the same flag.
+    #[arg(short, long, value_name = "PATH", required = true, alias = "outfile")]
     pub output: PathBuf,
 }
 

@@ -102,10 +102,10 @@ fn check_outputs(args: &RenderArgs, paths: &output::OutputPaths, scene_path: &Pa
     for stale in guard::clean_stale_temporaries(paths) {
         status!("removed {}, left by a run that was killed", stale.display());
     }
-    output::check_writable(&paths.png)?;
-    output::check_writable(&paths.exr)?;
+    output::create_folder_and_check(&paths.png)?;
+    output::create_folder_and_check(&paths.exr)?;
     if let Some(log) = &args.error_log {
-        output::check_writable(log)?;
+        output::create_folder_and_check(log)?;
     }
     for aov in &args.aov {
         output::check_writable(&paths.aov(aov.name()))?;

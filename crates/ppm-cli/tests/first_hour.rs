@@ -75,3 +75,41 @@ fn quiet_draws_no_progress_bar_on_a_terminal() {
     assert!(!shown.contains('['), "a bar under -q: {shown:?}");
     assert!(shown.trim().is_empty(), "output under -q: {shown:?}");
 }
+
+/// Bare `ppm` is a usage error that shows the subcommands, not only `Usage: ppm <SCENE>`.
+#[test]
+fn bare_ppm_lists_the_subcommands() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = run(dir.path(), &[]);
+    assert_eq!(out.status.code(), Some(2));
+    let shown = format!("{}{}", stdout(&out), stderr(&out));
+    for command in ["render", "compare", "converge", "info", "merge"] {
+        assert!(shown.contains(command), "{command} missing: {shown}");
+    }
+}
+
+/// pbrt's `--outfile` is `-o`; `-o` (render and merge) creates a missing folder, as
+/// `converge --out` does.
+#[test]
+fn outfile_is_o_and_missing_folders_are_created() {
+    let dir = tempfile::tempdir().unwrap();
+    tiny_scene(dir.path());
+    assert_ok(&run(
+        dir.path(),
+        &["tiny.yml", "-n", "1", "-q", "--outfile", "pbrt.exr"],
+    ));
+    assert!(dir.path().join("pbrt.exr").is_file() && dir.path().join("pbrt.png").is_file());
+    assert_ok(&run(
+        dir.path(),
+        &["tiny.yml", "-n", "1", "-q", "-o", "refs/deep/x.exr"],
+    ));
+    assert!(dir.path().join("refs/deep/x.exr").is_file());
+    assert_ok(&run(
+        dir.path(),
+        &["merge", "refs/deep/x.exr", "--outfile", "merged/all.exr"],
+    ));
+    assert!(dir.path().join("merged/all.png").is_file());
+    // A file where the folder would be is still an error naming it.
+    let err = assert_fails(&run(dir.path(), &["tiny.yml", "-o", "tiny.yml/out.png"]), 1);
+    assert!(err.contains("tiny.yml"), "{err}");
+}
