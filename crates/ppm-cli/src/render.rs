@@ -123,7 +123,7 @@ pub fn run(args: &RenderArgs, interrupt: &Interrupt) -> Result<Outcome> {
         check_algorithm_options(args, algorithm)?;
     }
     let scene_arg = args.scene.as_deref().context("no scene file given")?;
-    let scene_path = setup::locate_scene(scene_arg)?;
+    let (scene_path, found_by) = setup::locate_scene_found(scene_arg)?;
     let paths = output::output_paths(args.output.as_deref(), &scene_path)?;
     check_outputs(args, &paths, &scene_path)?;
     let reference = args
@@ -155,7 +155,13 @@ pub fn run(args: &RenderArgs, interrupt: &Interrupt) -> Result<Outcome> {
     if args.verbose {
         status!(
             "{}",
-            crate::report::verbose_lines(&scene_path, camera.width, camera.height, &bounds)
+            crate::report::verbose_lines(
+                &scene_path,
+                found_by,
+                camera.width,
+                camera.height,
+                &bounds
+            )
         );
     }
     let mut preview = args.display_server.as_deref().map(|address| {

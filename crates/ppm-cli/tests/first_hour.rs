@@ -113,3 +113,37 @@ fn outfile_is_o_and_missing_folders_are_created() {
     let err = assert_fails(&run(dir.path(), &["tiny.yml", "-o", "tiny.yml/out.png"]), 1);
     assert!(err.contains("tiny.yml"), "{err}");
 }
+
+/// `-v` prints the scene's path without `..` and the rule of the scene search that found it.
+#[test]
+fn verbose_says_where_and_how_the_scene_was_found() {
+    let dir = tempfile::tempdir().unwrap();
+    let mine = tempfile::tempdir().unwrap();
+    tiny_scene(mine.path());
+    let out = ppm(dir.path())
+        .args(["tiny.yml", "-n", "1", "-v", "-o", "a"])
+        .env("PPM_SCENES", mine.path())
+        .output()
+        .unwrap();
+    assert_ok(&out);
+    let log = stderr(&out);
+    let expected = format!(
+        "scene {} (found in $PPM_SCENES)",
+        mine.path().join("tiny.yml").display()
+    );
+    assert!(log.contains(&expected), "{log}");
+    // The source tree's scenes, reached from the crate's folder through `../..`.
+    let out = ppm(dir.path())
+        .args(["cornell_box.yml", "-a", "pt", "-n", "1", "--width", "8"])
+        .args(["-v", "-o", "b"])
+        .env_remove("PPM_SCENES")
+        .output()
+        .unwrap();
+    assert_ok(&out);
+    let log = stderr(&out);
+    let line = log.lines().find(|l| l.starts_with("scene ")).unwrap();
+    assert!(
+        !line.contains("..") && line.ends_with("scenes/cornell_box.yml (found in the scenes/ of the source tree ppm was built from)"),
+        "{line}"
+    );
+}
