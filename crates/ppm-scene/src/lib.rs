@@ -76,6 +76,13 @@ pub fn load_scene_with_defines(
             scene.materials[material as usize].name
         ));
     }
+    for (material, gap) in light_placement::lights_facing_near_surfaces(&scene) {
+        warnings.push(format!(
+            "{}: a light of material `{}` emits into a surface {gap:.3} away (scene units), so only what leaks out of the gap lights the scene: is it turned over? Emission leaves the side of counter-clockwise winding (OBJ faces, quads' edge_u x edge_v); reverse the faces or move the lamp",
+            path.display(),
+            scene.materials[material as usize].name
+        ));
+    }
     for (material, triangles) in light_area::lights_without_area(&scene, &emissive) {
         warnings.push(format!(
             "{}: {} of light material `{}` emit{} nothing: no area is left in single precision at {} distance from the camera; make the lamp larger against that distance",
