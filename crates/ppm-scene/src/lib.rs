@@ -19,6 +19,7 @@
 //! ```
 
 mod build;
+mod closed_glass;
 mod content_hash;
 mod error;
 pub mod ior;
@@ -64,6 +65,14 @@ pub fn load_scene_with_defines(
 ) -> Result<LoadedScene, LoadError> {
     let (builder, mut warnings) = load_scene_builder_with_defines(path, defines)?;
     let content_hash = content_hash(&builder);
+    for (material, edges) in closed_glass::open_glass_edges(&builder) {
+        warnings.push(format!(
+            "{}: the glass of material `{}` is not closed: {edges} open edge{} (used by one triangle only); light that enters it through the hole never meets the far side, so it renders wrong: close the mesh, or use `thindielectric` for a sheet",
+            path.display(),
+            builder.materials[material as usize].name,
+            if edges == 1 { "" } else { "s" }
+        ));
+    }
     let emissive = light_area::emissive_triangles(&builder);
     let scene = builder.build().map_err(|source| LoadError::Scene {
         path: path.to_path_buf(),
