@@ -67,6 +67,7 @@ pub struct Interrupt {
 
 impl Interrupt {
     /// A flag that nothing has raised yet (and no handler installed).
+    #[cfg(test)]
     pub fn new() -> Self {
         Self::default()
     }
