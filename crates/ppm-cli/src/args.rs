@@ -86,7 +86,8 @@ pub struct RenderArgs {
     /// Also write the current image every this many seconds.
     #[arg(long, value_name = "SECONDS", value_parser = positive_seconds, allow_negative_numbers = true)]
     pub checkpoint: Option<f64>,
-    /// Reference image (EXR) to measure the error against; sets the default resolution.
+    /// Reference image (EXR, HDR, or PNG decoded from sRGB) to measure the error against;
+    /// sets the default resolution.
     #[arg(long, value_name = "REF.exr")]
     pub reference: Option<PathBuf>,
     /// CSV of iteration,seconds,relmse,rmse, written during the render (needs --reference).
@@ -230,7 +231,7 @@ pub struct CompareArgs {
 pub struct ConvergeArgs {
     /// Scene file (YAML); looked up in scenes/ when not found as given.
     pub scene: PathBuf,
-    /// Reference image (EXR); the renders use its resolution. Render it with a seed outside
+    /// Reference image (EXR, HDR, or PNG decoded from sRGB); the renders use its resolution. Render it with a seed outside
     /// the ones used here (--seed .. --seed + --seeds - 1): a shared seed correlates its
     /// noise with the runs' and understates their error.
     #[arg(long, value_name = "REF.exr")]

@@ -147,3 +147,87 @@ fn verbose_says_where_and_how_the_scene_was_found() {
         "{line}"
     );
 }
+
+/// The repository's Markdown files a user copies commands from: README.md and docs/*.md.
+fn markdown_files() -> Vec<std::path::PathBuf> {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let mut files = vec![root.join("README.md")];
+    let mut docs: Vec<_> = std::fs::read_dir(root.join("docs"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "md"))
+        .collect();
+    docs.sort();
+    files.extend(docs);
+    files
+}
+
+/// The `ppm ...` lines of the ```sh blocks of `text` (continuation lines joined, comments
+/// cut), split into words as the shell would (no quotes or variables in these commands).
+fn printed_ppm_commands(text: &str) -> Vec<Vec<String>> {
+    let mut commands = Vec::new();
+    let mut in_sh = false;
+    let mut pending = String::new();
+    for line in text.lines() {
+        if line.starts_with("```") {
+            in_sh = !in_sh && line.trim_start_matches('`').trim() == "sh";
+            continue;
+        }
+        if !in_sh {
+            continue;
+        }
+        pending.push_str(line.trim_end_matches('\\'));
+        pending.push(' ');
+        if line.ends_with('\\') {
+            continue;
+        }
+        let command = pending.split(" #").next().unwrap_or("").trim().to_string();
+        pending.clear();
+        if let Some(args) = command.strip_prefix("ppm ") {
+            commands.push(args.split_whitespace().map(String::from).collect());
+        }
+    }
+    commands
+}
+
+/// Every `ppm` command of a ```sh block in the README and docs/ runs as printed from any
+/// folder: its command line parses (not exit status 2) and its scene is found (not "not
+/// found"). It runs under `PPM_MEMORY_LIMIT=1`, so a render is refused by the memory check
+/// after the scene is loaded, before any work; commands whose inputs an earlier command of
+/// the block would have written fail on those, with status 1. Inline commands carry no shell
+/// pipe: `-a pt|ppm` pasted into a shell pipes into a program `ppm`.
+#[test]
+fn printed_commands_run_as_printed() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut checked = 0;
+    for file in markdown_files() {
+        let text = std::fs::read_to_string(&file).unwrap();
+        for args in printed_ppm_commands(&text) {
+            let out = ppm(dir.path())
+                .args(&args)
+                .env("PPM_MEMORY_LIMIT", "1")
+                .env_remove("PPM_SCENES")
+                .output()
+                .unwrap();
+            let err = stderr(&out);
+            assert_ne!(
+                out.status.code(),
+                Some(2),
+                "{}: ppm {args:?}: {err}",
+                file.display()
+            );
+            assert!(
+                !err.contains("not found") && !err.contains("panicked"),
+                "{}: ppm {args:?}: {err}",
+                file.display()
+            );
+            checked += 1;
+        }
+        for span in text.split('`').skip(1).step_by(2) {
+            if span.starts_with("ppm ") && span.contains('|') && !span.contains("| head") {
+                panic!("{}: `{span}` is a shell pipe when pasted", file.display());
+            }
+        }
+    }
+    assert!(checked >= 8, "only {checked} printed commands found");
+}
