@@ -60,7 +60,7 @@ pub const DEFAULT_ITERATIONS: u64 = 32;
 pub struct RenderArgs {
     /// Scene file (YAML); when not found as given, looked up in ./scenes, $PPM_SCENES, the
     /// scenes installed beside the binary and the source tree's scenes/.
-    #[arg(required = true)]
+    #[arg(required_unless_present = "resume")]
     pub scene: Option<PathBuf>,
     /// Iterations to render [default: 32, or unlimited with --time-limit]. Each iteration
     /// traces one camera path per pixel (pt: one sample per pixel; ppm: plus a photon pass).
@@ -121,7 +121,7 @@ pub struct RenderArgs {
     #[arg(long, value_name = "I/K", allow_hyphen_values = true, value_parser = crate::provenance::parse_shard_arg, requires = "iterations")]
     pub shard: Option<(u64, u64)>,
     /// Continue the render saved in this EXR (a finished image or a checkpoint) for -n more
-    /// iterations; the scene and settings must be the file's.
+    /// iterations; the scene and settings not given are the file's (those given must agree).
     #[arg(long, value_name = "FILE.exr")]
     pub resume: Option<PathBuf>,
 }
@@ -184,9 +184,10 @@ pub struct SettingsArgs {
     /// Image height (without --width the scene's aspect ratio is kept).
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=MAX_RESOLUTION as i64), allow_negative_numbers = true)]
     pub height: Option<u32>,
-    /// Seed of all random numbers (converge: the first of --seeds consecutive seeds).
-    #[arg(long, default_value_t = 0)]
-    pub seed: u64,
+    /// Seed of all random numbers (converge: the first of --seeds consecutive seeds)
+    /// [default: 0, or the --resume file's].
+    #[arg(long)]
+    pub seed: Option<u64>,
     /// Mitsuba XML scenes: give the scene's parameter `$NAME` this value, over its
     /// `<default>` (as `mitsuba -D NAME=VALUE`); repeatable.
     #[arg(short = 'D', value_name = "NAME=VALUE", value_parser = parse_define)]
@@ -347,7 +348,7 @@ fn positive_finite(s: &str) -> Result<f32, String> {
 }
 
 /// `auto` or a finite number > 0.
-fn gather_radius(s: &str) -> Result<Radius, String> {
+pub(crate) fn gather_radius(s: &str) -> Result<Radius, String> {
     if s == "auto" {
         return Ok(Radius::Auto);
     }
@@ -412,7 +413,7 @@ mod tests {
         assert_eq!(r.scene, Some(PathBuf::from("scene.yml")));
         assert_eq!(r.iterations, Some(3));
         assert_eq!(r.output, Some(PathBuf::from("out.png")));
-        assert_eq!(r.settings.seed, 7);
+        assert_eq!(r.settings.seed, Some(7));
         assert_eq!(r.algorithm, Some(Algorithm::Path));
     }
 

@@ -26,6 +26,7 @@ mod render_loop;
 mod report;
 mod rescue;
 mod resume;
+mod resume_flags;
 mod scene_search;
 mod setup;
 mod signal;

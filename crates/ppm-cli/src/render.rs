@@ -117,6 +117,18 @@ fn check_outputs(args: &RenderArgs, paths: &output::OutputPaths, scene_path: &Pa
 /// writes the PNG and EXR and prints a summary.
 pub fn run(args: &RenderArgs, interrupt: &Interrupt) -> Result<Outcome> {
     crate::console::set_quiet(args.quiet);
+    // `--resume FILE`: the settings not given come from the file, which records them all.
+    let recorded;
+    let args = match &args.resume {
+        Some(path) => {
+            recorded = crate::resume_flags::with_recorded_settings(
+                args,
+                &state_file::read(path)?.provenance,
+            )?;
+            &recorded
+        }
+        None => args,
+    };
     // With `-a` given, its options are checked before anything else; without, once the
     // scene (which may name the algorithm) is loaded.
     if let Some(algorithm) = args.algorithm {
@@ -338,6 +350,14 @@ pub fn run(args: &RenderArgs, interrupt: &Interrupt) -> Result<Outcome> {
         peak_rss_bytes: peak_rss_bytes(),
     };
     info!("{}", summary.line());
+    if args.resume.is_some() {
+        let total = provenance_after(&totals);
+        info!(
+            "the render now holds {} iterations, {:.2} s of render time over all its runs",
+            snapshot.film.iterations(),
+            total.render_seconds
+        );
+    }
     info!("{}", summary.passes_line());
     info!(
         "{}",
@@ -354,7 +374,7 @@ pub fn run(args: &RenderArgs, interrupt: &Interrupt) -> Result<Outcome> {
              image): iteration {iteration} (0-based), pixel ({}, {}), seed {}",
             bounds.x0 + pixel % bounds.width(),
             bounds.y0 + pixel / bounds.width(),
-            args.settings.seed
+            settings.seed
         );
     }
     crate::black_image::warn_if_black(&image, &scene_path, &scene, &settings, &totals);

@@ -129,7 +129,7 @@ pub fn render_settings(scene: &Scene, algorithm: Algorithm, args: &SettingsArgs)
 /// with a warning when a depth above the bound was asked for.
 pub fn apply_overrides(settings: &mut RenderSettings, algorithm: Algorithm, args: &SettingsArgs) {
     settings.algorithm = algorithm;
-    settings.seed = args.seed;
+    settings.seed = args.seed.unwrap_or(0);
     if let Some(v) = args.max_depth {
         settings.max_depth = v;
     }

@@ -231,3 +231,55 @@ fn printed_commands_run_as_printed() {
     }
     assert!(checked >= 8, "only {checked} printed commands found");
 }
+
+/// `ppm --resume FILE -n N` takes the scene and every setting from FILE: the result equals
+/// one render of all the iterations bit for bit, and the summary gives the totals. A flag
+/// that disagrees with the file is still refused.
+#[test]
+fn resume_takes_the_settings_from_the_file() {
+    let dir = tempfile::tempdir().unwrap();
+    tiny_scene(dir.path());
+    let settings = [
+        "-a",
+        "sppm",
+        "--seed",
+        "5",
+        "--radius",
+        "0.2",
+        "--alpha",
+        "0.5",
+        "--max-depth",
+        "4",
+        "--photons",
+        "500",
+        "--width",
+        "20",
+        "-q",
+    ];
+    let render = |n: &str, out: &str| {
+        let mut args = vec!["tiny.yml", "-n", n, "-o", out];
+        args.extend(settings);
+        assert_ok(&run(dir.path(), &args));
+    };
+    render("3", "part");
+    render("5", "whole");
+    let out = run(
+        dir.path(),
+        &["--resume", "part.exr", "-n", "2", "-o", "resumed"],
+    );
+    assert_ok(&out);
+    let log = stderr(&out);
+    assert!(log.contains("2 iterations in"), "{log}");
+    assert!(log.contains("the render now holds 5 iterations"), "{log}");
+    let resumed = read_exr(&dir.path().join("resumed.exr"));
+    let whole = read_exr(&dir.path().join("whole.exr"));
+    assert_eq!(resumed, whole, "resumed with the file's settings");
+    let err = assert_fails(
+        &run(
+            dir.path(),
+            &["--resume", "part.exr", "-n", "2", "-o", "x", "--seed", "6"],
+        ),
+        1,
+    );
+    assert!(err.contains("ppm.seed"), "{err}");
+}
