@@ -27,6 +27,8 @@ second or more after the first, quits at once without writing).";
     subcommand_negates_reqs = true,
     // `--seed -1` is a value out of range, reported as such, not an unknown option `-1`.
     allow_negative_numbers = true,
+    // Bare `ppm` prints the help, which lists the subcommands, not only `Usage: ppm <SCENE>`.
+    arg_required_else_help = true,
     after_help = AFTER_HELP
 )]
 pub struct Cli {
@@ -58,7 +60,7 @@ pub const DEFAULT_ITERATIONS: u64 = 32;
 pub struct RenderArgs {
     /// Scene file (YAML); when not found as given, looked up in ./scenes, $PPM_SCENES, the
     /// scenes installed beside the binary and the source tree's scenes/.
-    #[arg(required = true)]
+    #[arg(required_unless_present = "resume")]
     pub scene: Option<PathBuf>,
     /// Iterations to render [default: 32, or unlimited with --time-limit]. Each iteration
     /// traces one camera path per pixel (pt: one sample per pixel; ppm: plus a photon pass).
@@ -68,9 +70,10 @@ pub struct RenderArgs {
     /// refused for ppm, where an iteration is more than a sample (use -n).
     #[arg(long, value_name = "N", conflicts_with = "iterations", value_parser = clap::value_parser!(u64).range(1..), allow_negative_numbers = true)]
     pub spp: Option<u64>,
-    /// Output image: out.png, out.exr or out all write out.png + out.exr
-    /// [default: <scene stem>.png/.exr in the current folder].
-    #[arg(short, long, value_name = "PATH")]
+    /// Output image: out.png, out.exr or out all write out.png + out.exr; a missing folder
+    /// is created [default: <scene stem>.png/.exr in the current folder]. `--outfile`
+    /// (pbrt's name) is the same flag.
+    #[arg(short, long, value_name = "PATH", alias = "outfile")]
     pub output: Option<PathBuf>,
     /// Integrator [default: the scene's `render.algorithm`, else ppm].
     #[arg(short, long, value_parser = algorithm_parser())]
@@ -83,7 +86,8 @@ pub struct RenderArgs {
     /// Also write the current image every this many seconds.
     #[arg(long, value_name = "SECONDS", value_parser = positive_seconds, allow_negative_numbers = true)]
     pub checkpoint: Option<f64>,
-    /// Reference image (EXR) to measure the error against; sets the default resolution.
+    /// Reference image (EXR, HDR, or PNG decoded from sRGB) to measure the error against;
+    /// sets the default resolution.
     #[arg(long, value_name = "REF.exr")]
     pub reference: Option<PathBuf>,
     /// CSV of iteration,seconds,relmse,rmse, written during the render (needs --reference).
@@ -117,7 +121,7 @@ pub struct RenderArgs {
     #[arg(long, value_name = "I/K", allow_hyphen_values = true, value_parser = crate::provenance::parse_shard_arg, requires = "iterations")]
     pub shard: Option<(u64, u64)>,
     /// Continue the render saved in this EXR (a finished image or a checkpoint) for -n more
-    /// iterations; the scene and settings must be the file's.
+    /// iterations; the scene and settings not given are the file's (those given must agree).
     #[arg(long, value_name = "FILE.exr")]
     pub resume: Option<PathBuf>,
 }
@@ -180,9 +184,10 @@ pub struct SettingsArgs {
     /// Image height (without --width the scene's aspect ratio is kept).
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=MAX_RESOLUTION as i64), allow_negative_numbers = true)]
     pub height: Option<u32>,
-    /// Seed of all random numbers (converge: the first of --seeds consecutive seeds).
-    #[arg(long, default_value_t = 0)]
-    pub seed: u64,
+    /// Seed of all random numbers (converge: the first of --seeds consecutive seeds)
+    /// [default: 0, or the --resume file's].
+    #[arg(long)]
+    pub seed: Option<u64>,
     /// Mitsuba XML scenes: give the scene's parameter `$NAME` this value, over its
     /// `<default>` (as `mitsuba -D NAME=VALUE`); repeatable.
     #[arg(short = 'D', value_name = "NAME=VALUE", value_parser = parse_define)]
@@ -227,7 +232,7 @@ pub struct CompareArgs {
 pub struct ConvergeArgs {
     /// Scene file (YAML); looked up in scenes/ when not found as given.
     pub scene: PathBuf,
-    /// Reference image (EXR); the renders use its resolution. Render it with a seed outside
+    /// Reference image (EXR, HDR, or PNG decoded from sRGB); the renders use its resolution. Render it with a seed outside
     /// the ones used here (--seed .. --seed + --seeds - 1): a shared seed correlates its
     /// noise with the runs' and understates their error.
     #[arg(long, value_name = "REF.exr")]
@@ -253,8 +258,9 @@ pub struct MergeArgs {
     /// The EXRs of the parts (`--shard` renders or consecutive `--resume` slices), any order.
     #[arg(required = true, value_name = "PART.exr")]
     pub parts: Vec<PathBuf>,
-    /// Output image: out.png, out.exr or out all write out.png + out.exr.
-    #[arg(short, long, value_name = "PATH", required = true)]
+    /// Output image: out.png, out.exr or out all write out.png + out.exr; a missing folder
+    /// is created. `--outfile` (pbrt's name) is the same flag.
+    #[arg(short, long, value_name = "PATH", required = true, alias = "outfile")]
     pub output: PathBuf,
 }
 
@@ -342,7 +348,7 @@ fn positive_finite(s: &str) -> Result<f32, String> {
 }
 
 /// `auto` or a finite number > 0.
-fn gather_radius(s: &str) -> Result<Radius, String> {
+pub(crate) fn gather_radius(s: &str) -> Result<Radius, String> {
     if s == "auto" {
         return Ok(Radius::Auto);
     }
@@ -407,7 +413,7 @@ mod tests {
         assert_eq!(r.scene, Some(PathBuf::from("scene.yml")));
         assert_eq!(r.iterations, Some(3));
         assert_eq!(r.output, Some(PathBuf::from("out.png")));
-        assert_eq!(r.settings.seed, 7);
+        assert_eq!(r.settings.seed, Some(7));
         assert_eq!(r.algorithm, Some(Algorithm::Path));
     }
 

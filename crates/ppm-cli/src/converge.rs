@@ -203,7 +203,7 @@ pub fn run(args: &ConvergeArgs, interrupt: &Interrupt) -> Result<Outcome> {
     setup::with_threads(args.settings.threads, || -> Result<()> {
         threads = rayon::current_num_threads();
         for &algorithm in &algorithms {
-            for seed in (0..args.seeds as u64).map(|k| args.settings.seed + k) {
+            for seed in (0..args.seeds as u64).map(|k| args.settings.seed.unwrap_or(0) + k) {
                 if interrupt.requested() {
                     return Ok(());
                 }

@@ -26,6 +26,7 @@ mod render_loop;
 mod report;
 mod rescue;
 mod resume;
+mod resume_flags;
 mod scene_search;
 mod setup;
 mod signal;
@@ -74,7 +75,10 @@ fn error_message(e: &anyhow::Error) -> String {
 }
 
 fn run(cli: Cli) -> Result<Outcome> {
-    let interrupt = Interrupt::new();
+    let interrupt = Interrupt::writing(match cli.command {
+        Some(Command::Converge(_)) => signal::CONVERGE_WRITES,
+        _ => signal::RENDER_WRITES,
+    });
     match cli.command {
         Some(Command::Compare(args)) => compare::run(&args).map(|()| Outcome::Finished),
         Some(Command::Info(args)) => info::run(&args.image).map(|()| Outcome::Finished),

@@ -19,8 +19,8 @@ pub fn run(args: &MergeArgs) -> Result<()> {
     let paths = output::output_paths(Some(&args.output), Path::new("merged"))?;
     let inputs: Vec<(&str, &Path)> = args.parts.iter().map(|p| ("part", p.as_path())).collect();
     crate::guard::refuse_overwriting_inputs(&paths, &inputs)?;
-    output::check_writable(&paths.png)?;
-    output::check_writable(&paths.exr)?;
+    output::create_folder_and_check(&paths.png)?;
+    output::create_folder_and_check(&paths.exr)?;
     let mut parts = Vec::with_capacity(args.parts.len());
     for path in &args.parts {
         let part = state_file::read(path)?;

@@ -2,7 +2,7 @@
 //! summary with speeds and memory.
 
 use crate::render_loop::{LoopTotals, StopRule};
-use indicatif::{ProgressBar, ProgressStyle};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 /// A progress bar on stderr, counting iterations, or render time under a time limit.
 /// (indicatif draws nothing when stderr is not a terminal.)
@@ -14,27 +14,32 @@ pub struct Progress {
 impl Progress {
     /// A bar for a render that stops by `stop`; `label` names it (e.g. the algorithm).
     pub fn new(stop: &StopRule, label: &str) -> Self {
-        let (bar, by_time, template) = match stop.time_limit {
+        let (length, by_time, template) = match stop.time_limit {
             // Milliseconds of render time, the iteration count in the message.
             Some(limit) => (
-                ProgressBar::new((limit * 1000.0).ceil() as u64),
+                (limit * 1000.0).ceil() as u64,
                 true,
                 "{prefix} [{bar:30}] {elapsed} of {len_s}, {msg}",
             ),
             None => (
-                ProgressBar::new(stop.iterations.unwrap_or(0)),
+                stop.iterations.unwrap_or(0),
                 false,
                 "{prefix} [{bar:30}] {pos}/{len} iterations, {elapsed} elapsed, {eta} left {msg}",
             ),
         };
+        // Hidden from the start under -q: a bar made visible and hidden afterwards has
+        // already drawn itself once (setting its prefix redraws it).
+        let target = if crate::console::quiet() {
+            ProgressDrawTarget::hidden()
+        } else {
+            ProgressDrawTarget::stderr()
+        };
+        let bar = ProgressBar::with_draw_target(Some(length), target);
         let style = ProgressStyle::with_template(&template.replace("{len_s}", &format_limit(stop)))
             .expect("progress template is valid")
             .progress_chars("=> ");
         bar.set_style(style);
         bar.set_prefix(label.to_string());
-        if crate::console::quiet() {
-            bar.set_draw_target(indicatif::ProgressDrawTarget::hidden());
-        }
         Progress { bar, by_time }
     }
 

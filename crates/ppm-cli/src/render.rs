@@ -102,10 +102,10 @@ fn check_outputs(args: &RenderArgs, paths: &output::OutputPaths, scene_path: &Pa
     for stale in guard::clean_stale_temporaries(paths) {
         status!("removed {}, left by a run that was killed", stale.display());
     }
-    output::check_writable(&paths.png)?;
-    output::check_writable(&paths.exr)?;
+    output::create_folder_and_check(&paths.png)?;
+    output::create_folder_and_check(&paths.exr)?;
     if let Some(log) = &args.error_log {
-        output::check_writable(log)?;
+        output::create_folder_and_check(log)?;
     }
     for aov in &args.aov {
         output::check_writable(&paths.aov(aov.name()))?;
@@ -117,13 +117,25 @@ fn check_outputs(args: &RenderArgs, paths: &output::OutputPaths, scene_path: &Pa
 /// writes the PNG and EXR and prints a summary.
 pub fn run(args: &RenderArgs, interrupt: &Interrupt) -> Result<Outcome> {
     crate::console::set_quiet(args.quiet);
+    // `--resume FILE`: the settings not given come from the file, which records them all.
+    let recorded;
+    let args = match &args.resume {
+        Some(path) => {
+            recorded = crate::resume_flags::with_recorded_settings(
+                args,
+                &state_file::read(path)?.provenance,
+            )?;
+            &recorded
+        }
+        None => args,
+    };
     // With `-a` given, its options are checked before anything else; without, once the
     // scene (which may name the algorithm) is loaded.
     if let Some(algorithm) = args.algorithm {
         check_algorithm_options(args, algorithm)?;
     }
     let scene_arg = args.scene.as_deref().context("no scene file given")?;
-    let scene_path = setup::locate_scene(scene_arg)?;
+    let (scene_path, found_by) = setup::locate_scene_found(scene_arg)?;
     let paths = output::output_paths(args.output.as_deref(), &scene_path)?;
     check_outputs(args, &paths, &scene_path)?;
     let reference = args
@@ -155,7 +167,13 @@ pub fn run(args: &RenderArgs, interrupt: &Interrupt) -> Result<Outcome> {
     if args.verbose {
         status!(
             "{}",
-            crate::report::verbose_lines(&scene_path, camera.width, camera.height, &bounds)
+            crate::report::verbose_lines(
+                &scene_path,
+                found_by,
+                camera.width,
+                camera.height,
+                &bounds
+            )
         );
     }
     let mut preview = args.display_server.as_deref().map(|address| {
@@ -332,6 +350,14 @@ pub fn run(args: &RenderArgs, interrupt: &Interrupt) -> Result<Outcome> {
         peak_rss_bytes: peak_rss_bytes(),
     };
     info!("{}", summary.line());
+    if args.resume.is_some() {
+        let total = provenance_after(&totals);
+        info!(
+            "the render now holds {} iterations, {:.2} s of render time over all its runs",
+            snapshot.film.iterations(),
+            total.render_seconds
+        );
+    }
     info!("{}", summary.passes_line());
     info!(
         "{}",
@@ -348,7 +374,7 @@ pub fn run(args: &RenderArgs, interrupt: &Interrupt) -> Result<Outcome> {
              image): iteration {iteration} (0-based), pixel ({}, {}), seed {}",
             bounds.x0 + pixel % bounds.width(),
             bounds.y0 + pixel / bounds.width(),
-            args.settings.seed
+            settings.seed
         );
     }
     crate::black_image::warn_if_black(&image, &scene_path, &scene, &settings, &totals);

@@ -48,9 +48,19 @@ pub fn settings_line(settings: &RenderSettings, image: Range<u64>, threads: usiz
     )
 }
 
-/// The `-v` lines: where the scene was found, the image and the crop window.
-pub fn verbose_lines(scene_path: &Path, width: u32, height: u32, bounds: &PixelBounds) -> String {
-    let mut s = format!("scene {}\nimage {width}x{height}", scene_path.display());
+/// The `-v` lines: where the scene was found and by which rule of the scene search
+/// ([`crate::scene_search`]), the image and the crop window.
+pub fn verbose_lines(
+    scene_path: &Path,
+    found_by: &str,
+    width: u32,
+    height: u32,
+    bounds: &PixelBounds,
+) -> String {
+    let mut s = format!(
+        "scene {} (found {found_by})\nimage {width}x{height}",
+        scene_path.display()
+    );
     if bounds.len() != width as usize * height as usize {
         s += &format!(
             ", rendering pixels {}..{} x {}..{} ({}x{})",

@@ -70,7 +70,7 @@ pub fn plan(args: &StartArgs, provenance: &Provenance) -> Result<Start> {
     if let Some(difference) = provenance.difference(&saved.provenance) {
         bail!(
             "cannot resume {}: it is not a render of this scene and settings; they differ in \
-             {difference} (this render vs the file; give the flags the file was rendered with)",
+             {difference} (this render vs the file; leave the flag out to take the file's)",
             path.display()
         );
     }

@@ -10,27 +10,68 @@
 use std::ffi::OsString;
 use std::path::{Path, PathBuf};
 
+/// A folder searched for scenes and the rule (of the module docs) that searches it.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct SearchFolder {
+    pub path: PathBuf,
+    /// The rule in words, as `-v` prints it: `in ./scenes`, `in $PPM_SCENES`.
+    pub rule: &'static str,
+}
+
+/// What `-v` says of a scene found as given.
+pub const AS_GIVEN: &str = "as given";
+
 /// The folders searched for a scene not found as given, in order (see the module docs).
 pub fn search_folders(
     ppm_scenes: Option<OsString>,
     executable: Option<PathBuf>,
     source_scenes: &Path,
-) -> Vec<PathBuf> {
-    let mut folders = vec![PathBuf::from("scenes")];
+) -> Vec<SearchFolder> {
+    let folder = |path: PathBuf, rule| SearchFolder { path, rule };
+    let mut folders = vec![folder(PathBuf::from("scenes"), "in ./scenes")];
     if let Some(list) = ppm_scenes {
-        folders.extend(std::env::split_paths(&list).filter(|p| !p.as_os_str().is_empty()));
+        folders.extend(
+            std::env::split_paths(&list)
+                .filter(|p| !p.as_os_str().is_empty())
+                .map(|p| folder(p, "in $PPM_SCENES")),
+        );
     }
     if let Some(bin) = executable.as_deref().and_then(Path::parent) {
-        folders.push(bin.join("scenes"));
-        folders.push(bin.join("../share/ppm/scenes"));
+        folders.push(folder(bin.join("scenes"), "beside the binary"));
+        folders.push(folder(
+            normalized(&bin.join("../share/ppm/scenes")),
+            "in the binary's ../share/ppm/scenes",
+        ));
     }
-    folders.push(source_scenes.to_path_buf());
+    folders.push(folder(
+        normalized(source_scenes),
+        "in the scenes/ of the source tree ppm was built from",
+    ));
     folders
+}
+
+/// `path` without `.` and `dir/..` components (lexically: `/src/crates/cli/../../scenes` is
+/// `/src/scenes`), so that messages print the path a user would type.
+fn normalized(path: &Path) -> PathBuf {
+    use std::path::Component;
+    let mut out = PathBuf::new();
+    for component in path.components() {
+        match component {
+            Component::CurDir => {}
+            Component::ParentDir
+                if matches!(out.components().next_back(), Some(Component::Normal(_))) =>
+            {
+                out.pop();
+            }
+            other => out.push(other),
+        }
+    }
+    out
 }
 
 /// The folders searched by this process: `PPM_SCENES`, this executable's location and the
 /// source tree (`CARGO_MANIFEST_DIR` at compile time).
-pub fn default_search_folders() -> Vec<PathBuf> {
+pub fn default_search_folders() -> Vec<SearchFolder> {
     search_folders(
         std::env::var_os("PPM_SCENES"),
         std::env::current_exe().ok(),
@@ -38,24 +79,30 @@ pub fn default_search_folders() -> Vec<PathBuf> {
     )
 }
 
-/// Every path tried for `arg`, in order: `arg` itself, then (for a relative path) `arg` in
-/// each search folder.
-pub fn candidates(arg: &Path, folders: &[PathBuf]) -> Vec<PathBuf> {
-    let mut paths = vec![arg.to_path_buf()];
+/// Every path tried for `arg`, in order, with the rule that tries it: `arg` itself, then
+/// (for a relative path) `arg` in each search folder.
+pub fn candidates(arg: &Path, folders: &[SearchFolder]) -> Vec<(PathBuf, &'static str)> {
+    let mut paths = vec![(arg.to_path_buf(), AS_GIVEN)];
     if arg.is_relative() {
-        paths.extend(folders.iter().map(|f| f.join(arg)));
+        paths.extend(folders.iter().map(|f| (f.path.join(arg), f.rule)));
     }
     paths
 }
 
-/// The first candidate that is a file, if any.
-pub fn find(arg: &Path, folders: &[PathBuf]) -> Option<PathBuf> {
-    candidates(arg, folders).into_iter().find(|p| p.is_file())
+/// The first candidate that is a file, if any, with the rule that found it.
+pub fn find(arg: &Path, folders: &[SearchFolder]) -> Option<(PathBuf, &'static str)> {
+    candidates(arg, folders)
+        .into_iter()
+        .find(|(p, _)| p.is_file())
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    fn paths(folders: &[SearchFolder]) -> Vec<PathBuf> {
+        folders.iter().map(|f| f.path.clone()).collect()
+    }
 
     #[test]
     fn folders_come_in_the_documented_order() {
@@ -63,21 +110,26 @@ mod tests {
         let folders = search_folders(
             Some(list),
             Some(PathBuf::from("/opt/ppm/bin/ppm")),
-            Path::new("/src/scenes"),
+            Path::new("/src/crates/ppm-cli/../../scenes"),
         );
         assert_eq!(
-            folders,
+            paths(&folders),
             [
                 PathBuf::from("scenes"),
                 PathBuf::from("/a"),
                 PathBuf::from("/b"),
                 PathBuf::from("/opt/ppm/bin/scenes"),
-                PathBuf::from("/opt/ppm/bin/../share/ppm/scenes"),
+                PathBuf::from("/opt/ppm/share/ppm/scenes"),
                 PathBuf::from("/src/scenes"),
             ]
         );
+        let rules: Vec<&str> = folders.iter().map(|f| f.rule).collect();
+        assert_eq!(rules[0], "in ./scenes");
+        assert_eq!(rules[1..3], ["in $PPM_SCENES"; 2]);
+        assert_eq!(rules[3], "beside the binary");
+        assert!(rules[5].contains("source tree"), "{}", rules[5]);
         assert_eq!(
-            search_folders(None, None, Path::new("/src/scenes")),
+            paths(&search_folders(None, None, Path::new("/src/scenes"))),
             [PathBuf::from("scenes"), PathBuf::from("/src/scenes")]
         );
     }
@@ -88,22 +140,31 @@ mod tests {
         let two = tempfile::tempdir().unwrap();
         std::fs::write(two.path().join("s.yml"), "").unwrap();
         std::fs::create_dir(one.path().join("s.yml")).unwrap(); // a folder is not a scene
-        let folders = [one.path().to_path_buf(), two.path().to_path_buf()];
+        let folders = [
+            SearchFolder {
+                path: one.path().to_path_buf(),
+                rule: "one",
+            },
+            SearchFolder {
+                path: two.path().to_path_buf(),
+                rule: "two",
+            },
+        ];
         assert_eq!(
             find(Path::new("s.yml"), &folders),
-            Some(two.path().join("s.yml"))
+            Some((two.path().join("s.yml"), "two"))
         );
         std::fs::write(one.path().join("t.yml"), "").unwrap();
         std::fs::write(two.path().join("t.yml"), "").unwrap();
         assert_eq!(
             find(Path::new("t.yml"), &folders),
-            Some(one.path().join("t.yml"))
+            Some((one.path().join("t.yml"), "one"))
         );
         // An absolute path is only tried as given.
         let absolute = one.path().join("missing.yml");
         assert_eq!(
             candidates(&absolute, &folders),
-            std::slice::from_ref(&absolute)
+            [(absolute.clone(), AS_GIVEN)]
         );
     }
 }

@@ -12,6 +12,12 @@ use std::path::{Path, PathBuf};
 /// no regular file (a FIFO, /dev/zero, a symbolic-link loop) is reported as what it is, not
 /// as "not found".
 pub fn locate_scene(arg: &Path) -> Result<PathBuf> {
+    locate_scene_found(arg).map(|(path, _)| path)
+}
+
+/// [`locate_scene`] with the rule that found the scene, in words (`as given`, `in
+/// $PPM_SCENES`), for `-v`.
+pub fn locate_scene_found(arg: &Path) -> Result<(PathBuf, &'static str)> {
     if std::fs::symlink_metadata(arg).is_ok() {
         match std::fs::metadata(arg) {
             Err(e) => bail!("cannot read scene file {}: {e}", arg.display()),
@@ -24,18 +30,18 @@ pub fn locate_scene(arg: &Path) -> Result<PathBuf> {
         }
     }
     let folders = crate::scene_search::default_search_folders();
-    if let Some(path) = crate::scene_search::find(arg, &folders) {
+    if let Some((path, rule)) = crate::scene_search::find(arg, &folders) {
         if crate::bare_obj::is_obj(&path) {
             bail!("{}", crate::bare_obj::refusal(&path));
         }
-        return Ok(path);
+        return Ok((path, rule));
     }
     if arg.is_dir() {
         bail!("scene {} is a folder, not a scene file", arg.display());
     }
     let tried: Vec<String> = crate::scene_search::candidates(arg, &folders)
         .iter()
-        .map(|p| p.display().to_string())
+        .map(|(p, _)| p.display().to_string())
         .collect();
     bail!(
         "scene file {} not found (tried {}; PPM_SCENES can name more folders)",
@@ -123,7 +129,7 @@ pub fn render_settings(scene: &Scene, algorithm: Algorithm, args: &SettingsArgs)
 /// with a warning when a depth above the bound was asked for.
 pub fn apply_overrides(settings: &mut RenderSettings, algorithm: Algorithm, args: &SettingsArgs) {
     settings.algorithm = algorithm;
-    settings.seed = args.seed;
+    settings.seed = args.seed.unwrap_or(0);
     if let Some(v) = args.max_depth {
         settings.max_depth = v;
     }
@@ -304,7 +310,7 @@ mod tests {
             )
         );
         let args = SettingsArgs {
-            seed: 9,
+            seed: Some(9),
             photons: Some(123),
             radius: Some(Radius::World(0.5)),
             alpha: Some(0.9),

@@ -33,6 +33,12 @@ pub const STOP_SIGNALS: [i32; 6] = [SIGINT, SIGTERM, SIGHUP, SIGUSR1, SIGUSR2, S
 /// scripts test for one "stopped early" status.
 pub const EXIT_INTERRUPTED: u8 = 130;
 
+/// What a stopped render writes, as its stop message says.
+pub const RENDER_WRITES: &str = "the image of the finished iterations";
+
+/// What a stopped `ppm converge` writes.
+pub const CONVERGE_WRITES: &str = "the CSV and plot of the finished runs";
+
 /// Stop signals within this time of the first one repeat it: they do not quit at once.
 /// Long enough for a signal delivered twice by a process-group kill, short enough that a
 /// second Ctrl-C pressed on purpose still quits.
@@ -52,6 +58,8 @@ pub enum StopRequest {
 /// A shared "please stop" flag, set by a stop signal (or by a test).
 #[derive(Clone, Debug, Default)]
 pub struct Interrupt {
+    /// What the command writes when stopped, for the message the first signal prints.
+    writes: &'static str,
     count: Arc<AtomicU32>,
     /// When the first stop signal arrived.
     first: Arc<OnceLock<Instant>>,
@@ -59,8 +67,31 @@ pub struct Interrupt {
 
 impl Interrupt {
     /// A flag that nothing has raised yet (and no handler installed).
+    #[cfg(test)]
     pub fn new() -> Self {
         Self::default()
+    }
+
+    /// A flag for a command that, stopped, writes `writes` (`the image of the finished
+    /// iterations`): the first signal's message says so.
+    pub fn writing(writes: &'static str) -> Self {
+        Interrupt {
+            writes,
+            ..Self::default()
+        }
+    }
+
+    /// What the first stop signal prints.
+    pub fn stop_message(&self) -> String {
+        let writes = if self.writes.is_empty() {
+            "what is finished"
+        } else {
+            self.writes
+        };
+        format!(
+            "\nppm: interrupted: abandoning the iteration in progress, then writing {writes} \
+             (stop again to quit at once)"
+        )
     }
 
     /// Installs the process's handler for the [`STOP_SIGNALS`] it does not inherit as
@@ -90,11 +121,7 @@ impl Interrupt {
     /// What a stop signal does: raise the flag and say so, or quit on a late second one.
     fn on_signal(&self) {
         match self.signal_at(Instant::now()) {
-            StopRequest::Stop => status!(
-                "\nppm: interrupted: abandoning the iteration in progress, then writing what \
-                 the finished ones give (a render's image, converge's CSV and plot; stop again \
-                 to quit at once)"
-            ),
+            StopRequest::Stop => status!("{}", self.stop_message()),
             StopRequest::Repeat => status!(
                 "ppm: the stop signal came again within {} s: still stopping and writing",
                 REPEAT_WINDOW.as_secs()
@@ -155,6 +182,18 @@ fn ignore_if_default(signal: i32) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A render's stop message speaks of its image, converge's of its CSV and plot.
+    #[test]
+    fn the_stop_message_names_what_the_command_writes() {
+        let render = Interrupt::writing(RENDER_WRITES).stop_message();
+        assert!(
+            render.contains("the image of the finished iterations") && !render.contains("converge"),
+            "{render}"
+        );
+        let converge = Interrupt::writing(CONVERGE_WRITES).stop_message();
+        assert!(converge.contains("CSV and plot"), "{converge}");
+    }
 
     #[test]
     fn flag_is_shared_between_clones() {

@@ -413,7 +413,7 @@ fn the_summary_says_seed_photons_and_radius() {
         &["tiny.yml", "-n", "2", "--seed", "9", "-t", "2"],
     );
     assert!(
-        log.contains("seed 9, 2000 photons (light paths) per iteration, radius 0.1 -> 0.09219")
+        log.contains("seed 9, 2000 photons (light paths) per iteration, radius 0.1 -> 0.0922 (")
             && log.contains("(alpha 0.7), direct light sampled, max depth 6, 2 threads"),
         "{log}"
     );

@@ -20,6 +20,7 @@
 //! ```
 
 mod build;
+mod closed_glass;
 mod content_hash;
 mod environment;
 mod error;
@@ -74,6 +75,14 @@ pub fn load_scene_with_defines(
 ) -> Result<LoadedScene, LoadError> {
     let (builder, mut warnings) = load_scene_builder_with_defines(path, defines)?;
     let content_hash = content_hash(&builder);
+    for (material, edges) in closed_glass::open_glass_edges(&builder) {
+        warnings.push(format!(
+            "{}: the glass of material `{}` is not closed: {edges} open edge{} (used by one triangle only); light that enters it through the hole never meets the far side, so it renders wrong: close the mesh, or use `thindielectric` for a sheet",
+            path.display(),
+            builder.materials[material as usize].name,
+            if edges == 1 { "" } else { "s" }
+        ));
+    }
     let emissive = light_area::emissive_triangles(&builder);
     let scene = builder.build().map_err(|source| LoadError::Scene {
         path: path.to_path_buf(),
@@ -82,6 +91,13 @@ pub fn load_scene_with_defines(
     for material in light_placement::lights_in_other_surfaces(&scene) {
         warnings.push(format!(
             "{}: a light of material `{}` lies in the plane of another surface: rays find one or the other by rounding, so the lamp looks speckled and the algorithms disagree; move it off by a little (the shipped boxes hang their lamp 2 cm under the ceiling)",
+            path.display(),
+            scene.materials[material as usize].name
+        ));
+    }
+    for (material, gap) in light_placement::lights_facing_near_surfaces(&scene) {
+        warnings.push(format!(
+            "{}: a light of material `{}` emits into a surface {gap:.3} away (scene units), so only what leaks out of the gap lights the scene: is it turned over? Emission leaves the side of counter-clockwise winding (OBJ faces, quads' edge_u x edge_v); reverse the faces or move the lamp",
             path.display(),
             scene.materials[material as usize].name
         ));

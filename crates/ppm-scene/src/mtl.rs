@@ -9,7 +9,7 @@ use glam::Vec3;
 use ppm_core::bsdf::{Bsdf, Phong};
 use ppm_core::material::Material;
 use std::collections::HashSet;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// Diffuse albedo of materials without `Kd`, and of faces without a usable material.
 pub const DEFAULT_ALBEDO: f32 = 0.5;
@@ -41,6 +41,9 @@ pub struct MtlMaterial {
     pub map_kd: Option<crate::mtl_texture::MtlTexture>,
     /// `map_Ks`: an image for the specular reflectance.
     pub map_ks: Option<crate::mtl_texture::MtlTexture>,
+    /// Where the material is defined, `file.mtl:<line of its newmtl>`, for warnings about
+    /// it (empty when built in code: the warnings then name the file they are given).
+    pub defined_at: String,
 }
 
 /// Parses the text of an MTL file. `path` names the file in messages and warnings.
@@ -50,7 +53,8 @@ pub fn parse_mtl(
     warnings: &mut Vec<String>,
 ) -> Result<Vec<MtlMaterial>, LoadError> {
     let mut materials: Vec<MtlMaterial> = Vec::new();
-    let mut ignored: Vec<String> = Vec::new();
+    // Texture statements ignored, each with its first line.
+    let mut ignored: Vec<(String, usize)> = Vec::new();
     // Statements of no MTL dialect ppm knows (often a typo: `Kdd`), with their first line.
     let mut unknown: Vec<(String, usize)> = Vec::new();
     let mut defined: HashSet<String> = HashSet::new();
@@ -75,6 +79,7 @@ pub fn parse_mtl(
                 ));
             }
             materials.push(MtlMaterial {
+                defined_at: format!("{}:{line_no}", path.display()),
                 name,
                 ..Default::default()
             });
@@ -122,9 +127,9 @@ pub fn parse_mtl(
             "map_ks" => m.map_ks = Some(crate::mtl_texture::parse(&args, path, line_no)?),
             k if (k.starts_with("map_")
                 || matches!(k, "bump" | "disp" | "decal" | "refl" | "norm"))
-                && !ignored.iter().any(|s| s == keyword) =>
+                && !ignored.iter().any(|(s, _)| s == keyword) =>
             {
-                ignored.push(keyword.to_string());
+                ignored.push((keyword.to_string(), line_no));
             }
             // Ka (ambient), Tr (its meaning differs between exporters), sharpness and the PBR
             // extension (Pr, Pm, ...) have no counterpart in ppm's BSDFs.
@@ -144,11 +149,12 @@ pub fn parse_mtl(
             names.join(", ")
         ));
     }
-    if !ignored.is_empty() {
+    if let Some((_, first)) = ignored.first() {
+        let names: Vec<&str> = ignored.iter().map(|(k, _)| k.as_str()).collect();
         warnings.push(format!(
-            "{}: texture maps are not supported; ignored {}",
+            "{}:{first}: texture maps are not supported; ignored {} (the first on this line)",
             path.display(),
-            ignored.join(", ")
+            names.join(", ")
         ));
     }
     Ok(materials)
@@ -222,6 +228,13 @@ fn number(a: &str, keyword: &str, path: &Path, line_no: usize) -> Result<f32, Lo
 /// Reflectances above 1 (in a channel of `Kd`, of `Ks`, of `Kd + Ks` for phong) are scaled
 /// down uniformly to a maximum of 1, keeping the hue, with a warning naming the material.
 pub fn mtl_to_material(m: &MtlMaterial, path: &Path, warnings: &mut Vec<String>) -> Material {
+    // Warnings name the MTL file and line that define the material, not the OBJ using it.
+    let defined_at = PathBuf::from(&m.defined_at);
+    let path = if m.defined_at.is_empty() {
+        path
+    } else {
+        defined_at.as_path()
+    };
     let emission = m.ke.unwrap_or(Vec3::ZERO);
     let mut bad_ior = None;
     let kd = m.kd.unwrap_or(Vec3::splat(DEFAULT_ALBEDO));

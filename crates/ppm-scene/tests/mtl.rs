@@ -312,10 +312,43 @@ fn an_mtl_exponent_beyond_the_largest_is_said() {
     let material = mtl_to_material(&mats[0], Path::new("t.mtl"), &mut warnings);
     assert_eq!(
         warnings,
-        ["t.mtl: material `sharp`: Ns 1e30 is rendered as 1e10, the largest exponent ppm renders"]
+        ["t.mtl:1: material `sharp`: Ns 1e30 is rendered as 1e10, the largest exponent ppm renders"]
     );
     match material.bsdf {
         Bsdf::Phong(p) => assert_eq!(p.exponent, 1e10),
         other => panic!("{other:?}"),
     }
+}
+
+/// A material's warnings, met while loading the OBJ that uses it, name the MTL file and the
+/// line of its `newmtl`, not the OBJ; ignored texture maps name their first line.
+#[test]
+fn material_warnings_name_the_mtl_line_not_the_obj() {
+    let dir = write_files(
+        "mtl_warning_lines",
+        &[
+            (
+                "a.obj",
+                &format!("mtllib m.mtl\nusemtl hot\n{SQUARE}f 1 2 3\n"),
+            ),
+            (
+                "m.mtl",
+                "# a library\nnewmtl plain\nKd 0.5 0.5 0.5\nnewmtl hot\nKd 3 0 0\nmap_Kd t.png\n",
+            ),
+        ],
+    );
+    let (_, warnings) = load(&dir, "a.obj");
+    let mtl = dir.join("m.mtl").display().to_string();
+    assert!(
+        warnings
+            .iter()
+            .any(|w| w.starts_with(&format!("{mtl}:4: material `hot`: Kd reaches 3"))),
+        "{warnings:?}"
+    );
+    assert!(
+        warnings
+            .iter()
+            .any(|w| w.starts_with(&format!("{mtl}:6: texture maps are not supported"))),
+        "{warnings:?}"
+    );
 }

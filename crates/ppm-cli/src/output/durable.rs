@@ -64,6 +64,22 @@ pub fn check_writable(path: &Path) -> Result<()> {
     Ok(())
 }
 
+/// [`check_writable`] after creating `path`'s folder if it does not exist, as `ppm converge
+/// --out` does: `-o refs/cornell.exr` needs no `mkdir refs` first.
+pub fn create_folder_and_check(path: &Path) -> Result<()> {
+    let dir = parent_dir(path);
+    if !dir.is_dir() {
+        fs::create_dir_all(dir).with_context(|| {
+            format!(
+                "cannot write {}: cannot create folder {}",
+                path.display(),
+                dir.display()
+            )
+        })?;
+    }
+    check_writable(path)
+}
+
 /// A file written in full (and synced) under a temporary name next to its target, waiting to
 /// be renamed over it by [`PendingFile::commit`]. Dropped uncommitted, it removes itself.
 pub struct PendingFile {

@@ -16,7 +16,9 @@ mod read;
 mod srgb;
 mod write;
 
-pub use durable::{check_writable, create_log, log_line, write_atomic, PendingFile};
+pub use durable::{
+    check_writable, create_folder_and_check, create_log, log_line, write_atomic, PendingFile,
+};
 pub use read::{check_finite, read_image, read_reference};
 #[cfg(test)]
 pub use write::write_png;

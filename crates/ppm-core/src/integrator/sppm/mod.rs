@@ -206,7 +206,9 @@ impl Integrator for SppmRenderer {
     /// photons), alpha and the direct light.
     fn settings_words(settings: &RenderSettings, _image: Range<u64>) -> String {
         let radius = match settings.radius {
-            Radius::World(r) => format!("{r} at the start, then per pixel"),
+            Radius::World(r) => {
+                format!("{} at the start, then per pixel", summary::significant(r))
+            }
             Radius::Auto => "auto (per pixel)".to_string(),
         };
         summary::photon_mapping(settings, &radius)

@@ -303,7 +303,7 @@ impl Integrator for VcmRenderer {
             "seed {}, one light path per pixel per iteration, merge radius {} (alpha {})",
             settings.seed,
             summary::scheduled_radius(settings, image, "auto (median footprint)"),
-            settings.alpha,
+            summary::significant(settings.alpha),
         )
     }
 
