@@ -40,9 +40,8 @@
 //! - open meshes, or closed ones with flipped normals: the sides are swapped or undefined;
 //! - overlapping volumes (two glass spheres intersecting): inside both, the segment takes the
 //!   medium of whichever surface it ends on;
-//! - a segment that ends nowhere (escapes the scene): it has no end surface; escaping rays
-//!   carry no radiance in ppm, so nothing is lost unless an environment light is added, and
-//!   then a ray escaping from inside an absorbing medium is the open-mesh case.
+//! - a ray that escapes the scene ends on no surface and is taken as clear; from inside a
+//!   closed medium no ray escapes, so this too is the open-mesh case.
 
 use glam::Vec3;
 
