@@ -29,6 +29,7 @@ mod resume;
 mod scene_search;
 mod setup;
 mod signal;
+mod state_check;
 mod state_file;
 
 use anyhow::Result;
