@@ -30,6 +30,7 @@ mod resume_flags;
 mod scene_search;
 mod setup;
 mod signal;
+mod state_check;
 mod state_file;
 
 use anyhow::Result;

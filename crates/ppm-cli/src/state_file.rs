@@ -21,6 +21,7 @@
 
 use crate::output::{self, PendingFile};
 use crate::provenance::Provenance;
+use crate::state_check::{self, HashCheck};
 use anyhow::{bail, Context, Result};
 use exr::prelude::{
     AnyChannel, AnyChannels, AttributeValue, Encoding, FlatSamples, Image as ExrImage, Layer,
@@ -80,6 +81,8 @@ pub fn pending(
             FlatSamples::U32(p.values.clone()),
         ));
     }
+    let named: Vec<(String, &AnyChannel<FlatSamples>)> =
+        channels.iter().map(|c| (c.name.to_string(), c)).collect();
     let mut attributes = LayerAttributes {
         software_name: Some(Text::from(
             format!("ppm {}", env!("CARGO_PKG_VERSION")).as_str(),
@@ -88,6 +91,14 @@ pub fn pending(
     };
     let mut text = provenance.to_attributes();
     text.insert(SUM_WORDS, words.to_string());
+    let hash = state_check::state_hash(
+        (image.width, image.height),
+        text.iter().map(|(k, v)| (*k, v.as_str())),
+        named
+            .iter()
+            .map(|(name, c)| (name.as_str(), &c.sample_data)),
+    );
+    text.insert(state_check::STATE_HASH, state_check::format_hash(hash));
     for (name, value) in text {
         attributes.other.insert(
             Text::from(name),
@@ -170,6 +181,39 @@ fn read_inner(path: &Path) -> Result<SavedRender> {
         })
         .collect();
     let provenance = Provenance::from_attributes(&attributes, (width, height))?;
+    let named: Vec<(String, &FlatSamples)> = layer
+        .channel_data
+        .list
+        .iter()
+        .map(|c| (c.name.to_string(), &c.sample_data))
+        .collect();
+    let hash = state_check::state_hash(
+        (width, height),
+        attributes.iter().map(|(k, v)| (k.as_str(), v.as_str())),
+        named
+            .iter()
+            .map(|(name, samples)| (name.as_str(), *samples)),
+    );
+    if state_check::verify_hash(
+        attributes.get(state_check::STATE_HASH).map(|s| s.as_str()),
+        hash,
+    )? == HashCheck::Absent
+    {
+        status!(
+            "warning: {} has no checksum ({}: written by an older ppm); its contents cannot be \
+             verified",
+            path.display(),
+            state_check::STATE_HASH
+        );
+    }
+    state_check::check_header(&state_check::Header {
+        width,
+        height,
+        first_iteration: provenance.first_iteration,
+        iterations: provenance.iterations,
+        rejected: provenance.rejected,
+        first_rejected: provenance.first_rejected,
+    })?;
 
     let pixel_count = width as usize * height as usize;
     let mut channels: BTreeMap<String, &[u32]> = BTreeMap::new();
@@ -190,6 +234,7 @@ fn read_inner(path: &Path) -> Result<SavedRender> {
             _ => bail!("attribute {SUM_WORDS} is {w:?}, not a number of words from 1 to 4"),
         },
     };
+    state_check::check_sum_channels(words, channels.keys().map(String::as_str), SUM_PREFIX)?;
     let mut sum = vec![[0u128; 3]; pixel_count];
     for (c, name) in RGB.iter().enumerate() {
         for word in 0..words {
@@ -211,7 +256,7 @@ fn read_inner(path: &Path) -> Result<SavedRender> {
         rejected: provenance.rejected,
         first_rejected: provenance.first_rejected,
     })?;
-    let pixels = channels
+    let pixels: Vec<PixelChannel> = channels
         .iter()
         .filter_map(|(name, values)| {
             name.strip_prefix(PIXEL_PREFIX).map(|n| PixelChannel {
@@ -220,8 +265,40 @@ fn read_inner(path: &Path) -> Result<SavedRender> {
             })
         })
         .collect();
+    if pixels.is_empty() {
+        check_image_against_sums(layer, &film)?;
+    }
     Ok(SavedRender {
         provenance,
         snapshot: Snapshot { film, pixels },
     })
+}
+
+/// Without per-pixel integrator state the image is the film's average: its R, G, B must be
+/// the sums divided by the iteration count, bit for bit (a file whose image and sums
+/// disagree would resume or merge into another image than the one it shows).
+fn check_image_against_sums(layer: &Layer<AnyChannels<FlatSamples>>, film: &Film) -> Result<()> {
+    let average = film.image();
+    for (c, name) in RGB.iter().enumerate() {
+        let Some(channel) = layer.channel_data.list.iter().find(|ch| ch.name.eq(name)) else {
+            bail!("channel {name} is missing");
+        };
+        let FlatSamples::F32(values) = &channel.sample_data else {
+            bail!("channel {name} is not f32");
+        };
+        let wrong = values
+            .iter()
+            .zip(&average.pixels)
+            .position(|(v, a)| v.to_bits() != a[c].to_bits());
+        if let Some(i) = wrong {
+            bail!(
+                "channel {name} of pixel {i} is {}, but its sums over {} iterations give {}: \
+                 the image and its state disagree",
+                values[i],
+                film.iterations(),
+                average.pixels[i][c]
+            );
+        }
+    }
+    Ok(())
 }

@@ -166,3 +166,48 @@ fn a_stop_before_the_first_iteration_finishes_keeps_the_previous_files() {
         );
     }
 }
+
+/// A closed sphere seen from inside, white and emissive: every path bounces max_depth times
+/// (albedo 1, Russian roulette never ends it), and in VCM every camera vertex connects to
+/// every vertex of its light subpath, so one pixel is about a million shadow rays.
+const GLOWING_SPHERE: &str = r#"
+camera: { position: [0.0, 0.0, 0.0], look_at: [0.0, 0.0, -1.0], up: [0.0, 1.0, 0.0], fov: 60.0 }
+resolution: [16, 16]
+materials:
+  glow: { type: diffuse, color: [1.0, 1.0, 1.0], emission: [1.0, 1.0, 1.0] }
+objects:
+  - { type: sphere, center: [0, 0, 0], radius: 1.0, material: glow, inward: true }
+render:
+  photons: 2048
+"#;
+
+/// A stop is seen within a moment whatever the algorithm and depth: the passes ask between
+/// paths and pixels, and VCM between camera vertices, not only between work items (a work
+/// item of 256 pixels of the glowing sphere is a minute of VCM). The bound is a loose guard
+/// (a stop is seen in well under a second; the item before this fix took a minute), not a
+/// timing.
+#[cfg(unix)]
+#[test]
+fn a_stop_in_a_deep_closed_scene_is_seen_at_once_by_every_algorithm() {
+    for algorithm in ["vcm", "bpt", "bpm", "lt", "sppm", "ppm", "pt"] {
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::write(dir.path().join("sphere.yml"), GLOWING_SPHERE).unwrap();
+        let args = ["sphere.yml", "-a", algorithm, "--max-depth", "4294967295"];
+        let (child, lines) = spawn(dir.path(), &args);
+        // Printed after loading, just before rendering starts; then well into the iteration.
+        let mut err = wait_for_line(&lines, "above the supported 1024");
+        std::thread::sleep(Duration::from_millis(1500));
+        let asked = std::time::Instant::now();
+        kill(&child, "TERM");
+        let (code, rest) = finish(child, lines);
+        let waited = asked.elapsed();
+        err.push_str(&rest);
+        // Light tracing alone finishes iterations in this scene (nothing connects to a
+        // camera path): a stop then writes them, as any stop does.
+        assert_eq!(code, Some(130), "-a {algorithm}: {err}");
+        assert!(
+            waited < Duration::from_secs(15),
+            "-a {algorithm}: the stop took {waited:?} to be seen"
+        );
+    }
+}

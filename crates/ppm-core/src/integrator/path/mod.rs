@@ -6,7 +6,7 @@
 mod tracer;
 
 use super::camera_walk::RayCounters;
-use super::runner::reduce_until;
+use super::runner::{reduce_until, Poll};
 use super::task_order::interleaved;
 use super::{
     image_bytes, Features, Integrator, IterationStats, MemoryEstimate, MemoryPart, PassTimes,
@@ -92,12 +92,18 @@ impl Integrator for PathTracer {
         let tiles = self
             .estimates
             .chunks_mut(bounds.width() as usize * TILE_ROWS);
+        let poll = Poll::new(stop);
         let counters = reduce_until(
             interleaved(tiles),
-            stop,
+            &poll,
             |(tile, rows)| {
                 let mut counters = RayCounters::default();
                 for (i, out) in rows.iter_mut().enumerate() {
+                    // A tile is rows of pixels, each up to max_depth bounces: ask between
+                    // pixels.
+                    if poll.stopped() {
+                        break;
+                    }
                     let pixel = bounds.full_index(tile * bounds.width() as usize * TILE_ROWS + i);
                     let mut rng = Rng::new(settings.seed, iteration, pixel as u64);
                     let film =

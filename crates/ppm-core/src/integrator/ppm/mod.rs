@@ -26,7 +26,7 @@ pub use eye_pass::{density_estimate, gather_limit, GatherContext};
 
 use super::camera_walk::RayCounters;
 use super::footprint::{pilot_points, pilot_radii, quantile};
-use super::runner::reduce_until;
+use super::runner::{reduce_until, Poll};
 use super::task_order::interleaved;
 use super::{
     image_bytes, summary, trace_light_path, Aov, Features, Integrator, IterationStats,
@@ -88,6 +88,7 @@ impl PpmRenderer {
     /// `stop` said yes before one of the work items (the pass is then incomplete).
     fn photon_pass(&mut self, scene: &Scene, iteration: u64, stop: Stop) -> Option<PhotonCounters> {
         let paths = self.settings.photons;
+        let poll = Poll::new(stop);
         loop {
             self.photons.clear();
             let buffer = &self.photons;
@@ -95,12 +96,16 @@ impl PpmRenderer {
             let tasks = paths.div_ceil(PATHS_PER_TASK);
             let counters = reduce_until(
                 0..tasks,
-                stop,
+                &poll,
                 |task| {
                     let mut counters = PhotonCounters::default();
                     let mut writer = buffer.writer();
                     let end = ((task + 1) * PATHS_PER_TASK).min(paths);
                     for path in task * PATHS_PER_TASK..end {
+                        // A path is up to max_depth bounces: ask between paths.
+                        if poll.stopped() {
+                            break;
+                        }
                         trace_light_path(
                             scene,
                             settings,
@@ -242,12 +247,16 @@ impl Integrator for PpmRenderer {
         let settings = &self.settings;
         let pixel_radii = self.pixel_radii.as_ref().map(|p| &p.initial[..]);
         let bounds = self.bounds;
+        let poll = Poll::new(stop);
         let eye = reduce_until(
             interleaved(self.estimates.chunks_mut(PIXELS_PER_TASK)),
-            stop,
+            &poll,
             |(task, pixels)| {
                 let mut counters = RayCounters::default();
                 for (i, out) in pixels.iter_mut().enumerate() {
+                    if poll.stopped() {
+                        break;
+                    }
                     let pixel = bounds.full_index(task * PIXELS_PER_TASK + i);
                     // This pixel's radius r_1(p) s_i, and its kernel.
                     let own;

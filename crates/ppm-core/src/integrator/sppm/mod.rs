@@ -26,7 +26,7 @@ pub use visible_point::{trace_camera_path, SplatPoint};
 
 use super::camera_walk::RayCounters;
 use super::footprint::pilot_radii;
-use super::runner::reduce_until;
+use super::runner::{reduce_until, Poll};
 use super::task_order::interleaved;
 use super::{
     image_bytes, summary, trace_light_path, Aov, Features, Integrator, IterationStats,
@@ -89,6 +89,7 @@ impl SppmRenderer {
         let paths = self.settings.photons;
         let flux_unit = scene.total_power().max_element();
         let mut scale = FixedPoint::FINE_SCALE;
+        let poll = Poll::new(stop);
         loop {
             let code = FixedPoint::new(flux_unit, scale);
             let (settings, grid) = (&self.settings, &self.grid);
@@ -96,7 +97,7 @@ impl SppmRenderer {
             let tasks = paths.div_ceil(PATHS_PER_TASK);
             let pass = reduce_until(
                 0..tasks,
-                stop,
+                &poll,
                 |task| {
                     let mut splatter = Splatter {
                         grid,
@@ -108,6 +109,11 @@ impl SppmRenderer {
                     let mut light = PhotonCounters::default();
                     let end = ((task + 1) * PATHS_PER_TASK).min(paths);
                     for path in task * PATHS_PER_TASK..end {
+                        // A path is up to max_depth bounces, each splatting into the
+                        // visible points around it: ask between paths.
+                        if poll.stopped() {
+                            break;
+                        }
                         trace_light_path(
                             scene,
                             settings,
@@ -327,12 +333,16 @@ impl Integrator for SppmRenderer {
             .direct_estimates
             .chunks_mut(PIXELS_PER_TASK)
             .zip(self.points.chunks_mut(PIXELS_PER_TASK));
+        let poll = Poll::new(stop);
         let camera = reduce_until(
             interleaved(tasks),
-            stop,
+            &poll,
             |(task, (ld, points))| {
                 let mut counters = RayCounters::default();
                 for (i, (ld, vp)) in ld.iter_mut().zip(points).enumerate() {
+                    if poll.stopped() {
+                        break;
+                    }
                     let local = task * PIXELS_PER_TASK + i;
                     let pixel = bounds.full_index(local);
                     let (l, mut point) =

@@ -10,6 +10,7 @@ use crate::bsdf::{Lobe, TransportMode};
 use crate::geometry::Ray;
 use crate::integrator::camera_path::start_pixel_path;
 use crate::integrator::camera_walk::RayCounters;
+use crate::integrator::runner::Poll;
 use crate::photon::HashGrid;
 use crate::sampling::Rng;
 use crate::scene::Scene;
@@ -35,6 +36,9 @@ pub(super) struct CameraPass<'a> {
     pub path_start: &'a [u32],
     /// What merging reads of the light vertices, in the grid's order.
     pub merge_vertices: &'a [MergeVertex],
+    /// The pass's stop request, asked at every camera vertex: in a deep closed scene one
+    /// pixel is up to max_depth vertices, each connected to up to max_depth light vertices.
+    pub poll: &'a Poll<'a>,
 }
 
 /// The camera vertex and the subpath state the estimators at it read.
@@ -53,7 +57,8 @@ impl CameraPass<'_> {
     /// `pixel`. Camera subpaths scatter by BSDF sampling in radiance mode with the path
     /// tracer's Russian roulette (after `rr_depth` bounces, survival min(1, max channel of the
     /// throughput)). The technique set decides what runs at each vertex; light tracing alone
-    /// ends the subpath at its first non-delta vertex.
+    /// ends the subpath at its first non-delta vertex. Cut short (and meaningless) once the
+    /// pass's [`Poll`] says stop.
     pub fn pixel(&self, pixel: usize, counters: &mut RayCounters) -> Vec3 {
         let scene = self.scene;
         let camera = &scene.camera;
@@ -75,6 +80,10 @@ impl CameraPass<'_> {
         let mut specular_path = true;
         let techniques = c.techniques;
         while edges < self.max_edges {
+            if self.poll.stopped() {
+                // The pass is abandoned: this estimate is discarded.
+                break;
+            }
             counters.rays += 1;
             let Some(hit) = scene.intersect(&ray) else {
                 let escaped = self.escaped(ray.dir, edges, &state, specular_path);

@@ -41,7 +41,7 @@ pub use techniques::Techniques;
 
 use super::camera_walk::RayCounters;
 use super::footprint::{pilot_radii, quantile};
-use super::runner::{collect_until, reduce_until};
+use super::runner::{collect_until, reduce_until, Poll};
 use super::task_order::interleaved;
 use super::{
     image_bytes, summary, Features, Integrator, IterationStats, MemoryEstimate, MemoryPart,
@@ -209,17 +209,22 @@ impl VcmRenderer {
     }
 
     /// The light pass: every light subpath of `iteration`, in parallel, collected in path
-    /// order; `None` if `stop` said yes before one of the work items.
+    /// order; `None` if `poll` said stop before or during one of the work items.
     fn light_pass(
         &mut self,
         scene: &Scene,
         params: &LightPathParams,
         paths: u32,
-        stop: Stop,
+        poll: &Poll,
     ) -> Option<RayCounters> {
-        let tasks = collect_until(0..paths.div_ceil(PATHS_PER_TASK), stop, |task| {
+        let tasks = collect_until(0..paths.div_ceil(PATHS_PER_TASK), poll, |task| {
             let mut out = LightTask::default();
             for path in task * PATHS_PER_TASK..((task + 1) * PATHS_PER_TASK).min(paths) {
+                // A light subpath of a deep scene is max_depth vertices, each connected to
+                // the camera: ask between paths.
+                if poll.stopped() {
+                    break;
+                }
                 trace_light_subpath(
                     scene,
                     params,
@@ -313,7 +318,8 @@ impl Integrator for VcmRenderer {
     }
 
     /// Renders one iteration; abandoned (film and radius untouched, `None`) if `stop` says yes
-    /// before one of the light or camera pass's work items starts.
+    /// during the light or camera pass (asked between light subpaths and between camera
+    /// vertices).
     fn iterate_until(&mut self, scene: &Scene, stop: Stop) -> Option<IterationStats> {
         let iteration = self.film.next_iteration();
         let merging = self.techniques.merging();
@@ -348,7 +354,8 @@ impl Integrator for VcmRenderer {
             self.records.reserve_exact(paths * PHOTONS_PER_PATH);
             self.merge_vertices.reserve_exact(paths * PHOTONS_PER_PATH);
         }
-        let light = self.light_pass(scene, &params, light_paths, stop)?;
+        let poll = Poll::new(stop);
+        let light = self.light_pass(scene, &params, light_paths, &poll)?;
         passes.photon = clock.lap();
         if merging {
             self.build_grid(radius);
@@ -367,12 +374,13 @@ impl Integrator for VcmRenderer {
             vertices: &self.vertices,
             path_start: &self.path_start,
             merge_vertices: &self.merge_vertices,
+            poll: &poll,
         };
         let bounds = self.bounds;
         let splats = &self.splats;
         let eye = reduce_until(
             interleaved(self.estimates.chunks_mut(PIXELS_PER_TASK)),
-            stop,
+            &poll,
             |(task, pixels)| {
                 let mut counters = RayCounters::default();
                 for (i, out) in pixels.iter_mut().enumerate() {
