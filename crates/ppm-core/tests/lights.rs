@@ -206,7 +206,7 @@ fn emission_samples_carry_the_light_power() {
         triangle_light(),
         sphere_light(false),
         sphere_light(true),
-        point,
+        point.clone(),
     ] {
         let n = 100_000;
         let (mut flux, mut cos) = (DVec3::ZERO, 0.0);
@@ -431,7 +431,7 @@ fn grazing_and_degenerate_reference_points_give_finite_values() {
         s.center + Vec3::Y * s.radius * (1.0 + 1e-6),
     ];
     for p in points {
-        for light in [light, sphere] {
+        for light in [light.clone(), sphere.clone()] {
             for _ in 0..2_000 {
                 if let Some(ds) = light.sample_direct(p, rng.uniform2()) {
                     assert!(
