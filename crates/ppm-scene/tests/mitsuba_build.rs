@@ -302,8 +302,8 @@ fn what_ppm_cannot_render_is_an_error_naming_it_and_its_place() {
             "scene.xml:6: texture `bitmap` (as `reflectance` of bsdf `diffuse`) is not supported yet",
         ),
         (
-            "\n<emitter type=\"envmap\"/>",
-            "scene.xml:6: emitter `envmap` at scene.xml:6 is not supported yet",
+            "\n<emitter type=\"sunsky\"/>",
+            "scene.xml:6: emitter `sunsky` at scene.xml:6 is not supported yet",
         ),
         (
             "<shape type=\"cube\"><bsdf type=\"dielectric\">\n<string name=\"int_ior\" value=\"unobtainium\"/></bsdf></shape>",
