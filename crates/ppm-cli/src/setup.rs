@@ -310,7 +310,7 @@ mod tests {
             )
         );
         let args = SettingsArgs {
-            seed: 9,
+            seed: Some(9),
             photons: Some(123),
             radius: Some(Radius::World(0.5)),
             alpha: Some(0.9),
