@@ -105,7 +105,7 @@ fn check_outputs(args: &RenderArgs, paths: &output::OutputPaths, scene_path: &Pa
     output::create_folder_and_check(&paths.png)?;
     output::create_folder_and_check(&paths.exr)?;
     if let Some(log) = &args.error_log {
-        output::create_folder_and_check(log)?;
+        output::check_writable(log)?;
     }
     for aov in &args.aov {
         output::check_writable(&paths.aov(aov.name()))?;
