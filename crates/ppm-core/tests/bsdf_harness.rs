@@ -17,7 +17,7 @@ mod common;
 use bsdf_checks::*;
 use common::{direction, IORS};
 use glam::{Vec2, Vec3};
-use ppm_core::bsdf::{Bsdf, Ggx};
+use ppm_core::bsdf::{Beckmann, Bsdf, Ggx, Microfacet};
 
 /// Registers the generic tests for each listed BSDF: `name: constructor,` makes a module
 /// `name` with six tests. The chi-square level is corrected for the number of models listed.
@@ -75,16 +75,25 @@ bsdf_harness! {
     rough_conductor_a1: rough_gold(Ggx::isotropic(1.0)),
     rough_conductor_anisotropic: rough_gold(Ggx::new(0.05, 0.4)),
     rough_conductor_two_sided: rough_gold(Ggx::isotropic(0.2)).two_sided().unwrap(),
-    rough_dielectric_a0_05: Bsdf::dielectric(1.5, Some(Ggx::isotropic(0.05))),
-    rough_dielectric_a0_3: Bsdf::dielectric(1.5, Some(Ggx::isotropic(0.3))),
-    rough_dielectric_a1: Bsdf::dielectric(2.4, Some(Ggx::isotropic(1.0))),
-    rough_dielectric_water_in_glass: Bsdf::dielectric(1.33 / 1.5, Some(Ggx::isotropic(0.2))),
-    rough_dielectric_anisotropic: Bsdf::dielectric(1.5, Some(Ggx::new(0.4, 0.08))),
+    rough_dielectric_a0_05: Bsdf::dielectric(1.5, Some(Ggx::isotropic(0.05).into())),
+    rough_dielectric_a0_3: Bsdf::dielectric(1.5, Some(Ggx::isotropic(0.3).into())),
+    rough_dielectric_a1: Bsdf::dielectric(2.4, Some(Ggx::isotropic(1.0).into())),
+    rough_dielectric_water_in_glass: Bsdf::dielectric(1.33 / 1.5, Some(Ggx::isotropic(0.2).into())),
+    rough_dielectric_anisotropic: Bsdf::dielectric(1.5, Some(Ggx::new(0.4, 0.08).into())),
     rough_plastic_a0_1: Bsdf::plastic(
-        Vec3::new(0.2, 0.5, 0.8), Vec3::ONE, 1.49, Some(Ggx::isotropic(0.1))
+        Vec3::new(0.2, 0.5, 0.8), Vec3::ONE, 1.49, Some(Ggx::isotropic(0.1).into())
     ),
     rough_plastic_a0_6_tinted: Bsdf::plastic(
-        Vec3::splat(0.5), Vec3::new(0.9, 0.7, 0.5), 1.6, Some(Ggx::isotropic(0.6))
+        Vec3::splat(0.5), Vec3::new(0.9, 0.7, 0.5), 1.6, Some(Ggx::isotropic(0.6).into())
+    ),
+    rough_conductor_beckmann_a0_3: rough_gold(Beckmann::isotropic(0.3)),
+    rough_conductor_beckmann_anisotropic: rough_gold(Beckmann::new(0.08, 0.5)),
+    rough_dielectric_beckmann_a0_2: Bsdf::dielectric(1.5, Some(Beckmann::isotropic(0.2).into())),
+    rough_dielectric_beckmann_water_in_glass: Bsdf::dielectric(
+        1.33 / 1.5, Some(Beckmann::new(0.5, 0.15).into())
+    ),
+    rough_plastic_beckmann_a0_3: Bsdf::plastic(
+        Vec3::new(0.2, 0.5, 0.8), Vec3::new(0.9, 0.7, 0.5), 1.49, Some(Beckmann::isotropic(0.3).into())
     ),
     smooth_plastic: Bsdf::plastic(Vec3::new(0.2, 0.5, 0.8), Vec3::ONE, 1.49, None),
     smooth_plastic_two_sided: Bsdf::plastic(Vec3::splat(0.6), Vec3::splat(0.8), 1.7, None)
@@ -93,12 +102,12 @@ bsdf_harness! {
 }
 
 /// Gold's RGB index (Mitsuba's `Au`), rough.
-fn rough_gold(ggx: Ggx) -> Bsdf {
+fn rough_gold(dist: impl Into<Microfacet>) -> Bsdf {
     Bsdf::conductor(
         Vec3::new(0.143036, 0.375307, 1.44205),
         Vec3::new(3.983, 2.38556, 1.60336),
         Vec3::ONE,
-        Some(ggx),
+        Some(dist.into()),
     )
 }
 

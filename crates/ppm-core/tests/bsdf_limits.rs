@@ -19,7 +19,7 @@ use ppm_core::sampling::Rng;
 /// noise up to 85 degrees (at 89.9 degrees the masking of alpha 0.001 still removes 7%).
 #[test]
 fn microfacet_models_at_alpha_0_001() {
-    let ggx = Some(Ggx::isotropic(0.001));
+    let ggx = Some(Ggx::isotropic(0.001).into());
     let gold = |r| {
         Bsdf::conductor(
             Vec3::new(0.143036, 0.375307, 1.44205),
@@ -119,7 +119,7 @@ fn lossless_dielectrics_conserve_flux() {
             }
         }
     }
-    let rough = Bsdf::dielectric(1.5, Some(Ggx::isotropic(0.05)));
+    let rough = Bsdf::dielectric(1.5, Some(Ggx::isotropic(0.05).into()));
     for wo in [Vec3::Z, -Vec3::Z] {
         let mut rng = Rng::new(seed("rough dielectric flux"), 8, 1);
         let mut albedo = Stats::default();

@@ -19,8 +19,8 @@
 
 use glam::Vec3;
 use ppm_core::bsdf::{
-    Bsdf, Conductor, Dielectric, Diffuse, Ggx, Glass, Mirror, Phong, Plastic, ThinDielectric,
-    TwoSided,
+    Beckmann, Bsdf, Conductor, Dielectric, Diffuse, Ggx, Glass, Microfacet, Mirror, Phong, Plastic,
+    ThinDielectric, TwoSided,
 };
 use ppm_core::camera::Camera;
 use ppm_core::geometry::{Sphere, TriangleMesh};
@@ -354,16 +354,27 @@ impl Fingerprint {
             .end();
     }
 
-    /// `None` or `Some(Ggx { alpha_x: .., alpha_y: .. })`.
-    fn roughness(&mut self, r: &Option<Ggx>) {
+    /// `None`, `Some(Ggx { alpha_x: .., alpha_y: .. })` or
+    /// `Some(Beckmann { alpha_x: .., alpha_y: .. })`: GGX is written as it was before Beckmann
+    /// existed (no distribution field), so the scenes of earlier versions keep their
+    /// fingerprint.
+    fn roughness(&mut self, r: &Option<Microfacet>) {
         match r {
             None => self.text("None"),
-            Some(Ggx { alpha_x, alpha_y }) => self.variant("Some", |f| {
+            Some(Microfacet::Ggx(Ggx { alpha_x, alpha_y })) => self.variant("Some", |f| {
                 f.record("Ggx")
                     .field("alpha_x", |f| f.f32(*alpha_x))
                     .field("alpha_y", |f| f.f32(*alpha_y))
                     .end()
             }),
+            Some(Microfacet::Beckmann(Beckmann { alpha_x, alpha_y })) => {
+                self.variant("Some", |f| {
+                    f.record("Beckmann")
+                        .field("alpha_x", |f| f.f32(*alpha_x))
+                        .field("alpha_y", |f| f.f32(*alpha_y))
+                        .end()
+                })
+            }
         }
     }
 

@@ -9,7 +9,7 @@ use crate::ior::named_ior;
 use crate::yaml::{MaterialDesc, MaterialType};
 use glam::Vec3;
 use ppm_core::bsdf::metals::{metal, METALS};
-use ppm_core::bsdf::{Bsdf, Dielectric, Ggx, ThinDielectric};
+use ppm_core::bsdf::{Beckmann, Bsdf, Dielectric, Ggx, Microfacet, ThinDielectric};
 use std::path::Path;
 
 /// Mitsuba's default roughness of its rough materials.
@@ -295,27 +295,38 @@ fn relative_index(
     Ok(int / ext)
 }
 
-/// The GGX distribution of `alpha` (default 0.1) or of `alpha_u` and `alpha_v` (both, and
-/// only if `anisotropic` is allowed); `distribution` may only be `ggx`.
+/// The microfacet distribution named by `distribution` (`ggx`, the default, or `beckmann`) of
+/// roughness `alpha` (default 0.1) or `alpha_u` and `alpha_v` (both, and only if `anisotropic`
+/// is allowed).
 fn roughness(
     d: &MaterialDesc,
     anisotropic: bool,
     err: &impl Fn(&str, String) -> LoadError,
-) -> Result<Ggx, LoadError> {
-    if let Some(dist) = &d.distribution {
-        if !dist.eq_ignore_ascii_case("ggx") {
+) -> Result<Microfacet, LoadError> {
+    let beckmann = match d.distribution.as_deref() {
+        None => false,
+        Some(dist) if dist.eq_ignore_ascii_case("ggx") => false,
+        Some(dist) if dist.eq_ignore_ascii_case("beckmann") => true,
+        Some(dist) => {
             return Err(err(
                 ".distribution",
-                format!("`{dist}` is not supported; ppm's microfacet distribution is `ggx`"),
-            ));
+                format!("`{dist}` is not a microfacet distribution: `ggx` or `beckmann`"),
+            ))
         }
-    }
+    };
+    let make = |ax: f32, ay: f32| -> Microfacet {
+        if beckmann {
+            Beckmann::new(ax, ay).into()
+        } else {
+            Ggx::new(ax, ay).into()
+        }
+    };
     match (&d.alpha, &d.alpha_u, &d.alpha_v) {
         (Some(_), Some(_), _) | (Some(_), _, Some(_)) => Err(err(
             "",
             "give either `alpha` or `alpha_u` and `alpha_v`, not both".into(),
         )),
-        (None, Some(u), Some(v)) if anisotropic => Ok(Ggx::new(u.0, v.0)),
+        (None, Some(u), Some(v)) if anisotropic => Ok(make(u.0, v.0)),
         (None, Some(_), None) | (None, None, Some(_)) => Err(err(
             "",
             "an anisotropic roughness needs both `alpha_u` and `alpha_v`".into(),
@@ -324,8 +335,9 @@ fn roughness(
             "",
             "roughplastic takes one `alpha`, no anisotropic roughness (as in Mitsuba)".into(),
         )),
-        (alpha, None, None) => Ok(Ggx::isotropic(
-            alpha.as_ref().map_or(DEFAULT_ALPHA, |a| a.0),
-        )),
+        (alpha, None, None) => {
+            let a = alpha.as_ref().map_or(DEFAULT_ALPHA, |a| a.0);
+            Ok(make(a, a))
+        }
     }
 }

@@ -7,7 +7,7 @@ mod common;
 use common::VALID;
 use glam::Vec3;
 use ppm_core::bsdf::metals::metal;
-use ppm_core::bsdf::{Bsdf, Ggx};
+use ppm_core::bsdf::{Beckmann, Bsdf, Ggx};
 use ppm_scene::{content_hash, parse_scene};
 use std::path::Path;
 
@@ -63,14 +63,18 @@ fn conductors_take_a_named_metal_or_eta_and_k() {
     ) {
         Bsdf::Conductor(c) => {
             assert_eq!(c.eta, Vec3::new(0.2, 0.9, 1.1));
-            assert_eq!(c.roughness, Some(Ggx::new(0.05, 0.3)));
+            assert_eq!(c.roughness, Some(Ggx::new(0.05, 0.3).into()));
             assert_eq!(c.specular_reflectance, Vec3::new(0.9, 0.8, 0.7));
         }
         b => panic!("{b:?}"),
     }
-    // Mitsuba's default roughness.
+    // Mitsuba's default roughness; ppm's default distribution, GGX.
     match bsdf("{ type: roughconductor, material: Cu }") {
-        Bsdf::Conductor(c) => assert_eq!(c.roughness, Some(Ggx::isotropic(0.1))),
+        Bsdf::Conductor(c) => assert_eq!(c.roughness, Some(Ggx::isotropic(0.1).into())),
+        b => panic!("{b:?}"),
+    }
+    match bsdf("{ type: roughconductor, material: Cu, alpha_u: 0.1, alpha_v: 0.2, distribution: beckmann }") {
+        Bsdf::Conductor(c) => assert_eq!(c.roughness, Some(Beckmann::new(0.1, 0.2).into())),
         b => panic!("{b:?}"),
     }
 }
@@ -88,7 +92,7 @@ fn dielectrics_take_two_indices_by_number_or_name() {
     match bsdf("{ type: roughdielectric, int_ior: water, ext_ior: 1.5, alpha: 0.2 }") {
         Bsdf::Dielectric(d) => {
             assert_eq!(d.eta, 1.333 / 1.5);
-            assert_eq!(d.roughness, Some(Ggx::isotropic(0.2)));
+            assert_eq!(d.roughness, Some(Ggx::isotropic(0.2).into()));
         }
         b => panic!("{b:?}"),
     }
@@ -112,7 +116,11 @@ fn plastics_and_two_sided() {
         b => panic!("{b:?}"),
     }
     match bsdf("{ type: roughplastic, diffuse_reflectance: [0.2, 0.5, 0.8], alpha: 0.3 }") {
-        Bsdf::Plastic(p) => assert_eq!(p.roughness, Some(Ggx::isotropic(0.3))),
+        Bsdf::Plastic(p) => assert_eq!(p.roughness, Some(Ggx::isotropic(0.3).into())),
+        b => panic!("{b:?}"),
+    }
+    match bsdf("{ type: roughplastic, alpha: 0.3, distribution: Beckmann }") {
+        Bsdf::Plastic(p) => assert_eq!(p.roughness, Some(Beckmann::isotropic(0.3).into())),
         b => panic!("{b:?}"),
     }
     match bsdf("{ type: twosided, bsdf: { type: roughconductor, material: Al } }") {
@@ -153,11 +161,11 @@ fn bad_parameters_name_the_field() {
         ],
     );
     has(
-        &error("{ type: roughconductor, distribution: beckmann }"),
+        &error("{ type: roughconductor, distribution: phong }"),
         &[
             "materials.white.distribution",
-            "`beckmann` is not supported",
-            "ggx",
+            "`phong` is not a microfacet distribution",
+            "`ggx` or `beckmann`",
         ],
     );
     has(
@@ -245,6 +253,9 @@ fn the_fingerprint_sees_every_parameter() {
         "{ type: roughconductor, material: Au, alpha: 0.2 }",
         "{ type: roughconductor, material: Au, alpha: 0.3 }",
         "{ type: roughconductor, material: Au, alpha_u: 0.2, alpha_v: 0.3 }",
+        "{ type: roughconductor, material: Au, alpha: 0.2, distribution: beckmann }",
+        "{ type: roughdielectric, distribution: beckmann }",
+        "{ type: roughplastic, distribution: beckmann }",
         "{ type: twosided, bsdf: { type: roughconductor, material: Au, alpha: 0.2 } }",
         "{ type: dielectric }",
         "{ type: dielectric, specular_transmittance: [0.9, 0.9, 0.9] }",
@@ -256,6 +267,11 @@ fn the_fingerprint_sees_every_parameter() {
         "{ type: twosided, bsdf: { type: plastic } }",
     ];
     let hashes: Vec<u64> = materials.iter().map(|m| hash(m)).collect();
+    // `ggx` is the default and is not written: scenes that name it hash as they did before.
+    assert_eq!(
+        hash("{ type: roughconductor, material: Au, alpha: 0.2, distribution: ggx }"),
+        hashes[2]
+    );
     for i in 0..hashes.len() {
         for j in 0..i {
             assert_ne!(

@@ -5,7 +5,7 @@
 
 use glam::Vec3;
 use ppm_core::bsdf::metals::metal;
-use ppm_core::bsdf::{Bsdf, Ggx};
+use ppm_core::bsdf::{Beckmann, Bsdf, Ggx};
 use ppm_core::light::Light;
 use ppm_core::scene::SceneBuilder;
 use ppm_scene::mitsuba::parse_mitsuba;
@@ -89,19 +89,24 @@ fn conductors_take_mitsubas_presets_indices_and_default_mirror() {
 }
 
 #[test]
-fn rough_models_read_alpha_and_warn_that_beckmann_is_ggx() {
+fn rough_models_read_alpha_and_distribution_beckmann_by_default() {
     let (b, w) =
         bsdf_of(r#"<bsdf type="roughconductor"><string name="material" value="Cu"/></bsdf>"#);
     let Bsdf::Conductor(c) = b else {
         panic!("{b:?}")
     };
-    assert_eq!(c.roughness, Some(Ggx::isotropic(0.1)));
+    assert_eq!(c.roughness, Some(Beckmann::isotropic(0.1).into()));
     assert_eq!(c.eta, metal("Cu").unwrap().eta);
-    assert_eq!(w.len(), 1, "{w:?}");
-    assert!(
-        w[0].contains("scene.xml:5: bsdf `roughconductor`: distribution `beckmann` (Mitsuba's default) is rendered as GGX of the same alpha"),
-        "{w:?}"
+    assert!(w.is_empty(), "{w:?}");
+    let (b, w) = bsdf_of(
+        r#"<bsdf type="roughdielectric"><string name="distribution" value="beckmann"/><float name="alpha_u" value="0.1"/>
+           <float name="alpha_v" value="0.4"/></bsdf>"#,
     );
+    let Bsdf::Dielectric(d) = b else {
+        panic!("{b:?}")
+    };
+    assert_eq!(d.roughness, Some(Beckmann::new(0.1, 0.4).into()));
+    assert!(w.is_empty(), "{w:?}");
     let (b, w) = bsdf_of(
         r#"<bsdf type="roughconductor"><string name="distribution" value="ggx"/><float name="alpha_u" value="0.05"/>
            <float name="alpha_v" value="0.3"/><boolean name="sample_visible" value="false"/></bsdf>"#,
@@ -109,7 +114,7 @@ fn rough_models_read_alpha_and_warn_that_beckmann_is_ggx() {
     let Bsdf::Conductor(c) = b else {
         panic!("{b:?}")
     };
-    assert_eq!(c.roughness, Some(Ggx::new(0.05, 0.3)));
+    assert_eq!(c.roughness, Some(Ggx::new(0.05, 0.3).into()));
     assert_eq!((c.eta, c.k), (Vec3::ZERO, Vec3::ONE));
     assert!(w.is_empty(), "{w:?}");
 
@@ -120,7 +125,7 @@ fn rough_models_read_alpha_and_warn_that_beckmann_is_ggx() {
     let Bsdf::Dielectric(d) = b else {
         panic!("{b:?}")
     };
-    assert_eq!(d.roughness, Some(Ggx::isotropic(0.3)));
+    assert_eq!(d.roughness, Some(Ggx::isotropic(0.3).into()));
     assert!((d.eta - 1.333 / 1.5046).abs() < 1e-6, "{}", d.eta);
 
     let (b, _) = bsdf_of(
@@ -128,7 +133,7 @@ fn rough_models_read_alpha_and_warn_that_beckmann_is_ggx() {
            <rgb name="diffuse_reflectance" value="0.1, 0.2, 0.3"/><float name="int_ior" value="1.6"/></bsdf>"#,
     );
     let Bsdf::Plastic(p) = b else { panic!("{b:?}") };
-    assert_eq!(p.roughness, Some(Ggx::isotropic(0.2)));
+    assert_eq!(p.roughness, Some(Ggx::isotropic(0.2).into()));
     assert_eq!(p.diffuse_reflectance, Vec3::new(0.1, 0.2, 0.3));
     assert!((p.eta - 1.6 / 1.000277).abs() < 1e-6);
 }

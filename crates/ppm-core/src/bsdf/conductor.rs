@@ -1,6 +1,6 @@
-//! Conductors: smooth (a Fresnel-weighted mirror) and rough (GGX microfacets).
+//! Conductors: smooth (a Fresnel-weighted mirror) and rough (GGX or Beckmann microfacets).
 
-use super::microfacet::Ggx;
+use super::microfacet::Microfacet;
 use super::{fresnel_conductor, reflect, BsdfFlags, BsdfSample, Lobe};
 use glam::{Vec2, Vec3};
 
@@ -14,11 +14,12 @@ use glam::{Vec2, Vec3};
 /// - Smooth (`roughness` None): the delta `F(cos_o) R delta(wi - reflect(wo)) / cos(wi)`,
 ///   with F the conductor Fresnel reflectance ([`fresnel_conductor`]) and R the tint; `sample`
 ///   returns it with weight `F R` and discrete probability 1.
-/// - Rough: the microfacet BRDF of Walter et al. 2007 (eq. 20) with the GGX distribution,
+/// - Rough: the microfacet BRDF of Walter et al. 2007 (eq. 20) with a [`Microfacet`] D and G,
 ///   `f(wo, wi) = R F(wo . h) D(h) G(wo, wi, h) / (4 cos_o cos_i)`, `h = normalize(wo + wi)`.
-///   `sample` draws a visible normal `m ~ D_wo` and reflects `wo` about it; the density of
-///   `wi` is `D_wo(h) / (4 |wo . h|)` (Walter et al. 2007, eq. 14, the reflection Jacobian),
-///   i.e. `G1(wo, h) D(h) / (4 cos_o)`, and the weight `R F(wo . h) G1(wi, h)`.
+///   `sample` draws a normal `m` by [`Microfacet::sample_m`] (GGX: visible from `wo`,
+///   `m ~ D_wo`; Beckmann: `m ~ D(m) mz`) and reflects `wo` about it; the density of `wi` is
+///   `pdf_m(h) / (4 |wo . h|)` (Walter et al. 2007, eq. 14, the reflection Jacobian), for GGX
+///   `G1(wo, h) D(h) / (4 cos_o)` with the weight `R F(wo . h) G1(wi, h)`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Conductor {
     /// Real part of the relative index of refraction, per channel.
@@ -28,7 +29,7 @@ pub struct Conductor {
     /// Tint multiplying the Fresnel reflectance (1 for a physical conductor).
     pub specular_reflectance: Vec3,
     /// The microfacet distribution; `None` for a smooth conductor.
-    pub roughness: Option<Ggx>,
+    pub roughness: Option<Microfacet>,
 }
 
 impl Conductor {
@@ -56,14 +57,14 @@ impl Conductor {
     /// f(wo, wi) without the cosine; zero for a smooth conductor and across the surface.
     #[inline]
     pub fn eval(&self, wo: Vec3, wi: Vec3) -> Vec3 {
-        let Some(ggx) = &self.roughness else {
+        let Some(dist) = &self.roughness else {
             return Vec3::ZERO;
         };
         if wo.z <= 0.0 || wi.z <= 0.0 {
             return Vec3::ZERO;
         }
         let h = (wo + wi).normalize();
-        let dg = ggx.d(h) * ggx.g(wo, wi, h);
+        let dg = dist.d(h) * dist.g(wo, wi, h);
         if dg <= 0.0 || !h.is_finite() {
             return Vec3::ZERO;
         }
@@ -79,10 +80,10 @@ impl Conductor {
     /// `G1(wo, h) D(h) / (4 cos_o)` for the rough conductor; zero for a smooth one.
     #[inline]
     pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
-        let Some(ggx) = &self.roughness else {
+        let Some(dist) = &self.roughness else {
             return 0.0;
         };
-        reflection_pdf(ggx, wo, wi)
+        reflection_pdf(dist, wo, wi)
     }
 
     /// The mirror direction (smooth) or a reflection about a visible normal (rough).
@@ -91,7 +92,7 @@ impl Conductor {
         if wo.z <= 0.0 || self.flags().is_empty() {
             return None;
         }
-        let Some(ggx) = &self.roughness else {
+        let Some(dist) = &self.roughness else {
             return Some(BsdfSample {
                 wi: reflect(wo),
                 weight: self.reflectance(wo.z),
@@ -99,21 +100,22 @@ impl Conductor {
                 lobe: Lobe::Specular,
             });
         };
-        let m = ggx.sample_visible(wo, u);
+        let m = dist.sample_m(wo, u);
         let wi = 2.0 * wo.dot(m) * m - wo;
         glossy_sample(wi, self.pdf(wo, wi), self.eval(wo, wi))
     }
 }
 
-/// Density of reflecting `wo` about a visible normal, at `wi`: `D_wo(h) / (4 |wo . h|)` =
-/// `G1(wo, h) D(h) / (4 cos_o)`, for both directions above the surface.
+/// Density of reflecting `wo` about a normal drawn by [`Microfacet::sample_m`], at `wi`:
+/// `pdf_m(wo, h) / (4 |wo . h|)` (for GGX `G1(wo, h) D(h) / (4 cos_o)`), for both directions
+/// above the surface.
 #[inline]
-pub(super) fn reflection_pdf(ggx: &Ggx, wo: Vec3, wi: Vec3) -> f32 {
+pub(super) fn reflection_pdf(dist: &Microfacet, wo: Vec3, wi: Vec3) -> f32 {
     if wo.z <= 0.0 || wi.z <= 0.0 {
         return 0.0;
     }
     let h = (wo + wi).normalize();
-    let pdf = ggx.g1(wo, h) * ggx.d(h) / (4.0 * wo.z);
+    let pdf = dist.reflection_pdf_h(wo, h);
     if pdf.is_finite() {
         pdf
     } else {

@@ -1,8 +1,8 @@
 //! Dielectric interfaces between two media: smooth (Fresnel-weighted mirror and refraction)
-//! and rough (GGX microfacets, Walter et al. 2007).
+//! and rough (GGX or Beckmann microfacets, Walter et al. 2007).
 
 use super::conductor::glossy_sample;
-use super::microfacet::Ggx;
+use super::microfacet::Microfacet;
 use super::TransportMode;
 use super::{fresnel_dielectric, reflect, refract_about, BsdfFlags, BsdfSample, Lobe};
 use glam::{Vec2, Vec3};
@@ -21,7 +21,7 @@ use glam::{Vec2, Vec3};
 ///   reflection weight R, refraction weight `T s` with `s = 1 / eta_w^2` on camera paths
 ///   ([`TransportMode::Radiance`]: radiance over the squared index is what crosses unchanged)
 ///   and `s = 1` on light paths (flux is only split; Veach 1997, sec. 5.2).
-/// - Rough: Walter et al. 2007 with GGX. With the generalised half vector
+/// - Rough: Walter et al. 2007 with a [`Microfacet`] distribution. With the generalised half vector
 ///   `m = ±normalize(wo + eta_w wi)` (eq. 16; `eta_w = 1` for reflection), oriented up:
 ///   - reflection (eq. 20): `f = R F(wo . m) D(m) G(wo, wi, m) / (4 |cos_o| |cos_i|)`;
 ///   - transmission (eq. 21, divided through by the index of wo's side):
@@ -33,8 +33,9 @@ use glam::{Vec2, Vec3};
 ///   and `eta_o^2` (radiance) or `eta_i^2` (importance) over `(eta_o wo . m + eta_i wi . m)^2`,
 ///   which rounds the same when the arguments are swapped.
 ///
-///   `sample` draws a normal visible from `wo` (on `wo`'s side), then reflects with
-///   probability F(wo . m) or refracts. Its density at `wi`: `D_wo(m)` times F or 1 - F times
+///   `sample` draws a normal by `sample_m` (on `wo`'s side), then reflects with
+///   probability F(wo . m) or refracts. Its density at `wi`: `pdf_m(m)` (`D_wo(m)` for
+///   GGX, `D(m) mz` for Beckmann) times F or 1 - F times
 ///   the Jacobian `1 / (4 |wi . m|)` (reflection, eq. 14) or
 ///   `eta_w^2 |wi . m| / (wo . m + eta_w wi . m)^2` (refraction, eq. 17).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -46,7 +47,7 @@ pub struct Dielectric {
     /// Tint of the transmitted light, at each crossing.
     pub specular_transmittance: Vec3,
     /// The microfacet distribution; `None` for a smooth interface.
-    pub roughness: Option<Ggx>,
+    pub roughness: Option<Microfacet>,
 }
 
 impl Dielectric {
@@ -133,7 +134,7 @@ impl Dielectric {
     /// f(wo, wi) without the cosine; zero for a smooth interface.
     #[inline]
     pub fn eval(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> Vec3 {
-        let Some(ggx) = &self.roughness else {
+        let Some(dist) = &self.roughness else {
             return Vec3::ZERO;
         };
         let Some((m, eta_o, eta_i, reflection)) = self.half_vector(wo, wi) else {
@@ -142,7 +143,7 @@ impl Dielectric {
         let (dot_o, dot_i) = (wo.dot(m), wi.dot(m));
         let dot_f = fresnel_cosine(reflection, wo, dot_o, dot_i);
         let f = fresnel_dielectric(dot_f, self.eta);
-        let dg = ggx.d(m) * ggx.g(wo, wi, m);
+        let dg = dist.d(m) * dist.g(wo, wi, m);
         let value = if reflection {
             self.specular_reflectance * (f * dg / (4.0 * wo.z.abs() * wi.z.abs()))
         } else {
@@ -167,7 +168,7 @@ impl Dielectric {
     /// The density of [`Dielectric::sample`] at `wi`; zero for a smooth interface.
     #[inline]
     pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
-        let Some(ggx) = &self.roughness else {
+        let Some(dist) = &self.roughness else {
             return 0.0;
         };
         let Some((m, eta_o, eta_i, reflection)) = self.half_vector(wo, wi) else {
@@ -177,7 +178,7 @@ impl Dielectric {
         // The Fresnel factor as eval reads it (see there), so that pdf > 0 wherever f > 0.
         let dot_f = fresnel_cosine(reflection, wo, dot_o, dot_i);
         let (p_r, p_t) = self.lobe_probabilities(dot_f);
-        let pdf_m = ggx.pdf_visible(wo, m);
+        let pdf_m = dist.pdf_m(wo, m);
         let pdf = if reflection {
             p_r * pdf_m / (4.0 * dot_i.abs())
         } else {
@@ -226,8 +227,8 @@ impl Dielectric {
             return None;
         }
         let m = match &self.roughness {
-            Some(ggx) => {
-                let m = ggx.sample_visible(wo, u);
+            Some(dist) => {
+                let m = dist.sample_m(wo, u);
                 if wo.z < 0.0 {
                     -m
                 } else {

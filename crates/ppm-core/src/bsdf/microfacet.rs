@@ -1,6 +1,8 @@
-//! The GGX (Trowbridge-Reitz) microfacet distribution: normal density, Smith masking and
-//! sampling of the visible normals, shared by the rough conductor, dielectric and plastic.
+//! The microfacet distributions of the rough conductor, dielectric and plastic: GGX
+//! (Trowbridge-Reitz, here, with sampling of the visible normals) and Beckmann
+//! ([`super::beckmann`]), behind the closed enum [`Microfacet`] the BSDFs call.
 
+use super::beckmann::Beckmann;
 use glam::{Vec2, Vec3};
 use std::f32::consts::PI;
 
@@ -140,6 +142,122 @@ impl Ggx {
     }
 }
 
+/// A microfacet distribution: the BSDFs call its `d`, `g1`, `g`, `sample_m` and `pdf_m`,
+/// which dispatch statically to the model. The two samplers differ: GGX draws the normals
+/// visible from the view direction (density `D_w(m)`), Beckmann draws `D(m) mz`; `pdf_m` is
+/// the density of `sample_m` either way.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Microfacet {
+    /// Trowbridge-Reitz.
+    Ggx(Ggx),
+    /// Beckmann (Gaussian slopes).
+    Beckmann(Beckmann),
+}
+
+impl From<Ggx> for Microfacet {
+    fn from(g: Ggx) -> Self {
+        Microfacet::Ggx(g)
+    }
+}
+
+impl From<Beckmann> for Microfacet {
+    fn from(b: Beckmann) -> Self {
+        Microfacet::Beckmann(b)
+    }
+}
+
+impl Microfacet {
+    /// Roughness along the local x axis.
+    #[inline]
+    pub fn alpha_x(&self) -> f32 {
+        match self {
+            Microfacet::Ggx(g) => g.alpha_x,
+            Microfacet::Beckmann(b) => b.alpha_x,
+        }
+    }
+
+    /// Roughness along the local y axis.
+    #[inline]
+    pub fn alpha_y(&self) -> f32 {
+        match self {
+            Microfacet::Ggx(g) => g.alpha_y,
+            Microfacet::Beckmann(b) => b.alpha_y,
+        }
+    }
+
+    /// The normal density D(m); zero for `m` in the lower hemisphere.
+    #[inline]
+    pub fn d(&self, m: Vec3) -> f32 {
+        match self {
+            Microfacet::Ggx(g) => g.d(m),
+            Microfacet::Beckmann(b) => b.d(m),
+        }
+    }
+
+    /// Smith masking of `w` by microfacets of normal `m`, 1 / (1 + Lambda(w)) or 0.
+    #[inline]
+    pub fn g1(&self, w: Vec3, m: Vec3) -> f32 {
+        match self {
+            Microfacet::Ggx(g) => g.g1(w, m),
+            Microfacet::Beckmann(b) => b.g1(w, m),
+        }
+    }
+
+    /// Separable masking-shadowing G1(wo, m) G1(wi, m).
+    #[inline]
+    pub fn g(&self, wo: Vec3, wi: Vec3, m: Vec3) -> f32 {
+        self.g1(wo, m) * self.g1(wi, m)
+    }
+
+    /// A normal in the upper hemisphere for the view direction `w` (either side: mirrored up).
+    #[inline]
+    pub fn sample_m(&self, w: Vec3, u: Vec2) -> Vec3 {
+        match self {
+            Microfacet::Ggx(g) => g.sample_visible(w, u),
+            Microfacet::Beckmann(b) => b.sample(u),
+        }
+    }
+
+    /// Density of [`Microfacet::sample_m`] at the upper-hemisphere normal `m` (solid angle):
+    /// `D_w(m)` for GGX, `D(m) mz` for Beckmann.
+    #[inline]
+    pub fn pdf_m(&self, w: Vec3, m: Vec3) -> f32 {
+        match self {
+            Microfacet::Ggx(g) => g.pdf_visible(w, m),
+            Microfacet::Beckmann(b) => b.pdf(m),
+        }
+    }
+
+    /// Density at `wi` of reflecting `wo` about `h = normalize(wo + wi)` drawn by `sample_m`,
+    /// both above the surface: `pdf_m(wo, h) / (4 |wo . h|)` (Walter et al. 2007, eq. 14).
+    /// For GGX written `G1(wo, h) D(h) / (4 cos_o)`, the `wo . h` cancelled.
+    #[inline]
+    pub fn reflection_pdf_h(&self, wo: Vec3, h: Vec3) -> f32 {
+        match self {
+            Microfacet::Ggx(g) => g.g1(wo, h) * g.d(h) / (4.0 * wo.z),
+            Microfacet::Beckmann(b) => b.pdf(h) / (4.0 * wo.dot(h).abs()),
+        }
+    }
+
+    /// `D_w(m) / pdf_m(w, m)` for `w` above the surface: the factor that turns an average over
+    /// `sample_m` into one over the visible normals. Exactly 1 for GGX; for Beckmann
+    /// `G1(w, m) max(0, w . m) / (wz mz)`.
+    #[inline]
+    pub fn visible_weight(&self, w: Vec3, m: Vec3) -> f32 {
+        match self {
+            Microfacet::Ggx(_) => 1.0,
+            Microfacet::Beckmann(b) => {
+                let v = b.g1(w, m) * w.dot(m).max(0.0) / (w.z * m.z);
+                if v.is_finite() {
+                    v
+                } else {
+                    0.0
+                }
+            }
+        }
+    }
+}
+
 /// Directional albedo of the rough dielectric interface's reflection and transmission, for
 /// `wo` at `cos_o` in the upper hemisphere of an interface of relative index `eta` (lower over
 /// upper side): the integrals over `wi` of `f cos(wi)` of each lobe (Walter et al. 2007,
@@ -148,24 +266,26 @@ impl Ggx {
 /// Computed, as Mitsuba 3 does for its rough plastic, by quadrature over the visible normals:
 /// with `m ~ D_wo`, reflection contributes `F(wo . m) G1(wi_r, m)` and transmission
 /// `(1 - F) G1(wi_t, m)` (the rest of each integrand is the density `D_wo` and the Jacobian),
-/// on an `n x n` Gauss-Legendre grid of the sampler's unit square.
-pub fn rough_dielectric_albedo(ggx: &Ggx, cos_o: f32, eta: f32, n: usize) -> (f32, f32) {
+/// on an `n x n` Gauss-Legendre grid of the sampler's unit square. With a sampler of another
+/// density (Beckmann's), each term is multiplied by [`Microfacet::visible_weight`].
+pub fn rough_dielectric_albedo(dist: &Microfacet, cos_o: f32, eta: f32, n: usize) -> (f32, f32) {
     let cos_o = cos_o.clamp(1e-6, 1.0);
     let wo = Vec3::new((1.0 - cos_o * cos_o).max(0.0).sqrt(), 0.0, cos_o);
     let rule = gauss_legendre_unit(n);
     let (mut reflected, mut transmitted) = (0.0f64, 0.0f64);
     for &(x, wx) in &rule {
         for &(y, wy) in &rule {
-            let m = ggx.sample_visible(wo, Vec2::new(x as f32, y as f32));
+            let m = dist.sample_m(wo, Vec2::new(x as f32, y as f32));
+            let v = dist.visible_weight(wo, m);
             let cos_m = wo.dot(m);
             let f = super::fresnel_dielectric(cos_m, eta);
             let wi_r = 2.0 * cos_m * m - wo;
             if wi_r.z > 0.0 {
-                reflected += wx * wy * (f * ggx.g1(wi_r, m)) as f64;
+                reflected += wx * wy * (f * dist.g1(wi_r, m) * v) as f64;
             }
             if let Some(wi_t) = super::refract_about(wo, m, eta) {
                 if wi_t.z < 0.0 {
-                    transmitted += wx * wy * ((1.0 - f) * ggx.g1(wi_t, m)) as f64;
+                    transmitted += wx * wy * ((1.0 - f) * dist.g1(wi_t, m) * v) as f64;
                 }
             }
         }

@@ -30,6 +30,7 @@
 //!   A model may mix delta and non-delta lobes (smooth plastic): `eval` and `pdf` are those of
 //!   the non-delta lobes, the pdf scaled by the probability of choosing them.
 
+mod beckmann;
 mod conductor;
 mod dielectric;
 mod diffuse;
@@ -44,13 +45,14 @@ mod plastic;
 mod thin_dielectric;
 mod twosided;
 
+pub use beckmann::Beckmann;
 pub use conductor::Conductor;
 pub use dielectric::Dielectric;
 pub use diffuse::Diffuse;
 pub use flags::BsdfFlags;
 pub use fresnel::{fresnel_conductor, fresnel_dielectric, fresnel_diffuse_reflectance};
 pub use glass::Glass;
-pub use microfacet::Ggx;
+pub use microfacet::{Ggx, Microfacet};
 pub use mirror::Mirror;
 pub use phong::Phong;
 pub use plastic::Plastic;
@@ -127,7 +129,7 @@ impl Bsdf {
         eta: Vec3,
         k: Vec3,
         specular_reflectance: Vec3,
-        roughness: Option<Ggx>,
+        roughness: Option<Microfacet>,
     ) -> Self {
         Bsdf::Conductor(Conductor {
             eta,
@@ -138,7 +140,7 @@ impl Bsdf {
     }
     /// A dielectric interface of relative index `eta = int_ior / ext_ior`, smooth or rough,
     /// with untinted reflection and transmission.
-    pub fn dielectric(eta: f32, roughness: Option<Ggx>) -> Self {
+    pub fn dielectric(eta: f32, roughness: Option<Microfacet>) -> Self {
         Bsdf::Dielectric(Dielectric {
             eta,
             specular_reflectance: Vec3::ONE,
@@ -156,7 +158,7 @@ impl Bsdf {
     }
     /// A plastic: a Lambertian base of albedo `diffuse` under a coating of relative index
     /// `eta` whose reflection is tinted by `specular`; smooth or rough.
-    pub fn plastic(diffuse: Vec3, specular: Vec3, eta: f32, roughness: Option<Ggx>) -> Self {
+    pub fn plastic(diffuse: Vec3, specular: Vec3, eta: f32, roughness: Option<Microfacet>) -> Self {
         Bsdf::Plastic(Plastic::new(diffuse, specular, eta, roughness))
     }
     /// The same BSDF seen from both sides: conductor and plastic wrapped in [`TwoSided`];

@@ -1,7 +1,7 @@
 //! Plastic: a dielectric coating, smooth or rough, over a Lambertian base.
 
 use super::conductor::{glossy_sample, reflection_pdf};
-use super::microfacet::{rough_dielectric_albedo, Ggx};
+use super::microfacet::{rough_dielectric_albedo, Microfacet};
 use super::Lobe;
 use super::{fresnel_dielectric, fresnel_diffuse_reflectance, reflect, BsdfFlags, BsdfSample};
 use crate::sampling::cosine_hemisphere;
@@ -19,7 +19,7 @@ const TABLE_SIZE: usize = 64;
 /// Two lobes, with both directions above the surface (cos_o, cos_i > 0):
 /// - the coating's reflection, tinted by `specular_reflectance`: smooth, the delta
 ///   `F(cos_o) delta(wi - reflect(wo)) / cos_i`; rough, the microfacet reflection
-///   `F(wo . h) D(h) G(wo, wi, h) / (4 cos_o cos_i)` of the GGX interface (Walter et al. 2007,
+///   `F(wo . h) D(h) G(wo, wi, h) / (4 cos_o cos_i)` of the microfacet interface (Walter et al. 2007,
 ///   eq. 20);
 /// - the base seen through the coating (Weidlich & Wilkie 2007; Mitsuba's linear form):
 ///   `f = rho / (1 - F_int) / (pi eta^2) T(cos_o) T(cos_i)`, where T is the coating's
@@ -51,7 +51,7 @@ pub struct Plastic {
     /// Interior over exterior index of refraction of the coating.
     pub eta: f32,
     /// The coating's microfacet distribution; `None` for a smooth coating.
-    pub roughness: Option<Ggx>,
+    pub roughness: Option<Microfacet>,
     /// F_int, the coating's hemispherical reflectance from inside.
     internal_reflectance: f32,
     /// w, the share of the coating in lobe selection.
@@ -66,14 +66,14 @@ impl Plastic {
         diffuse_reflectance: Vec3,
         specular_reflectance: Vec3,
         eta: f32,
-        roughness: Option<Ggx>,
+        roughness: Option<Microfacet>,
     ) -> Self {
         let specular_sampling_weight =
             Self::sampling_weight(diffuse_reflectance, specular_reflectance);
         let (internal_reflectance, transmittance) = match &roughness {
             None => (fresnel_diffuse_reflectance(1.0 / eta), None),
-            Some(ggx) => {
-                let (f_int, table) = rough_coating_tables(ggx, eta);
+            Some(dist) => {
+                let (f_int, table) = rough_coating_tables(dist, eta);
                 (f_int, Some(table))
             }
         };
@@ -180,9 +180,9 @@ impl Plastic {
             return Vec3::ZERO;
         }
         let mut f = self.base(wo, wi);
-        if let Some(ggx) = &self.roughness {
+        if let Some(dist) = &self.roughness {
             let h = (wo + wi).normalize();
-            let dg = ggx.d(h) * ggx.g(wo, wi, h);
+            let dg = dist.d(h) * dist.g(wo, wi, h);
             // F at the mean of the two equal cosines, so that f(wi, wo) rounds as f(wo, wi).
             let fresnel = fresnel_dielectric(0.5 * (wo.dot(h) + wi.dot(h)), self.eta);
             let coating = fresnel * dg / (4.0 * wo.z * wi.z);
@@ -201,8 +201,8 @@ impl Plastic {
         }
         let p_s = self.specular_probability(wo.z);
         let mut pdf = (1.0 - p_s) * wi.z * FRAC_1_PI;
-        if let Some(ggx) = &self.roughness {
-            pdf += p_s * reflection_pdf(ggx, wo, wi);
+        if let Some(dist) = &self.roughness {
+            pdf += p_s * reflection_pdf(dist, wo, wi);
         }
         pdf
     }
@@ -225,8 +225,8 @@ impl Plastic {
                         lobe: Lobe::Specular,
                     });
                 }
-                Some(ggx) => {
-                    let m = ggx.sample_visible(wo, u);
+                Some(dist) => {
+                    let m = dist.sample_m(wo, u);
                     2.0 * wo.dot(m) * m - wo
                 }
             }
@@ -245,10 +245,16 @@ impl Plastic {
 /// transmittance at cos = i / 63, as Mitsuba 3 computes them (Gauss-Legendre quadrature over
 /// the visible normals, 128 x 128 from inside where total internal reflection makes the
 /// integrand less smooth), with more points from outside.
-fn rough_coating_tables(ggx: &Ggx, eta: f32) -> (f32, &'static [f32; TABLE_SIZE]) {
-    type Key = (u32, u32, u32);
+fn rough_coating_tables(dist: &Microfacet, eta: f32) -> (f32, &'static [f32; TABLE_SIZE]) {
+    type Key = (bool, u32, u32, u32);
     static CACHE: Mutex<Vec<(Key, f32, &'static [f32; TABLE_SIZE])>> = Mutex::new(Vec::new());
-    let key = (ggx.alpha_x.to_bits(), ggx.alpha_y.to_bits(), eta.to_bits());
+    let beckmann = matches!(dist, Microfacet::Beckmann(_));
+    let key = (
+        beckmann,
+        dist.alpha_x().to_bits(),
+        dist.alpha_y().to_bits(),
+        eta.to_bits(),
+    );
     let mut cache = CACHE.lock().unwrap_or_else(|e| e.into_inner());
     if let Some(&(_, f_int, table)) = cache.iter().find(|(k, _, _)| *k == key) {
         return (f_int, table);
@@ -260,8 +266,8 @@ fn rough_coating_tables(ggx: &Ggx, eta: f32) -> (f32, &'static [f32; TABLE_SIZE]
     let mut f_int = 0.0f64;
     for (i, t) in table.iter_mut().enumerate() {
         let mu = (i as f32 / (TABLE_SIZE - 1) as f32).max(1e-6);
-        *t = rough_dielectric_albedo(ggx, mu, eta, resolution(eta)).1;
-        let inside = rough_dielectric_albedo(ggx, mu, 1.0 / eta, resolution(1.0 / eta));
+        *t = rough_dielectric_albedo(dist, mu, eta, resolution(eta)).1;
+        let inside = rough_dielectric_albedo(dist, mu, 1.0 / eta, resolution(1.0 / eta));
         f_int += (inside.0 * mu) as f64;
     }
     let f_int = (2.0 * f_int / TABLE_SIZE as f64) as f32;

@@ -8,7 +8,7 @@ use crate::mitsuba::spectrum::Role;
 use crate::LoadError;
 use glam::{DVec3, Vec3};
 use ppm_core::bsdf::metals::{metal, METALS};
-use ppm_core::bsdf::{Bsdf, Ggx};
+use ppm_core::bsdf::Bsdf;
 
 /// `conductor`: a smooth conductor. `material="none"` (Mitsuba 3's default) is the perfect
 /// mirror times `specular_reflectance`; otherwise see [`index`].
@@ -20,13 +20,13 @@ pub fn conductor(p: &Props) -> Result<Bsdf, LoadError> {
     })
 }
 
-/// `roughconductor`: a GGX-rough conductor (see `microfacet.rs` for the roughness and the
-/// Beckmann default) of the complex index [`index`] gives.
-pub fn roughconductor(p: &Props, warnings: &mut Vec<String>) -> Result<Bsdf, LoadError> {
-    let ggx: Ggx = roughness(p, true, warnings)?;
+/// `roughconductor`: a rough conductor (see `microfacet.rs` for the distribution and its
+/// roughness) of the complex index [`index`] gives.
+pub fn roughconductor(p: &Props) -> Result<Bsdf, LoadError> {
+    let dist = roughness(p, true)?;
     let tint = reflectance(p, "specular_reflectance", 1.0)?.as_vec3();
     let (eta, k) = index(p)?.unwrap_or((Vec3::ZERO, Vec3::ONE));
-    Ok(Bsdf::conductor(eta, k, tint, Some(ggx)))
+    Ok(Bsdf::conductor(eta, k, tint, Some(dist)))
 }
 
 /// The complex index, as Mitsuba 3 reads it: with `eta` given, or `material="none"` (the

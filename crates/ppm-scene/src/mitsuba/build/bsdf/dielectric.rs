@@ -5,7 +5,7 @@
 use super::{index_of_refraction, reflectance};
 use crate::mitsuba::props::Props;
 use crate::LoadError;
-use ppm_core::bsdf::{Bsdf, Dielectric, Ggx, ThinDielectric};
+use ppm_core::bsdf::{Bsdf, Dielectric, Microfacet, ThinDielectric};
 
 /// Mitsuba's default indices: `bk7` inside the dielectrics, `polypropylene` in the
 /// plastics' coating, `air` outside.
@@ -32,7 +32,7 @@ fn relative_index(p: &Props, default_int: f64) -> Result<f32, LoadError> {
 /// other, ppm's two-media [`Dielectric`] of `eta = int_ior / ext_ior`, so `eta < 1` (water
 /// inside glass) works as in Mitsuba. `specular_reflectance` and `specular_transmittance`
 /// tint the two lobes.
-pub fn dielectric(p: &Props, roughness: Option<Ggx>) -> Result<Bsdf, LoadError> {
+pub fn dielectric(p: &Props, roughness: Option<Microfacet>) -> Result<Bsdf, LoadError> {
     let eta = relative_index(p, BK7)?;
     Ok(Bsdf::Dielectric(Dielectric {
         eta,
@@ -60,7 +60,7 @@ pub fn thindielectric(p: &Props) -> Result<Bsdf, LoadError> {
 /// `nonlinear = false` only; `true` is an error. The smooth coating's internal reflectance
 /// is a polynomial fit that exceeds 1 above a relative index of about 3.9, so its index must
 /// lie in (1, 3].
-pub fn plastic(p: &Props, roughness: Option<Ggx>) -> Result<Bsdf, LoadError> {
+pub fn plastic(p: &Props, roughness: Option<Microfacet>) -> Result<Bsdf, LoadError> {
     let eta = relative_index(p, POLYPROPYLENE)?;
     if p.boolean("nonlinear", false)? {
         return Err(p.error(format!(

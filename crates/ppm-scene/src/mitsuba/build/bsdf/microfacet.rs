@@ -3,43 +3,28 @@
 
 use crate::mitsuba::props::Props;
 use crate::LoadError;
-use ppm_core::bsdf::Ggx;
+use ppm_core::bsdf::{Beckmann, Ggx, Microfacet};
 
 /// Mitsuba 3's default roughness.
 const DEFAULT_ALPHA: f64 = 0.1;
 
-/// The GGX distribution of the object's roughness: `alpha` (default 0.1), or `alpha_u` along
-/// the tangent and `alpha_v` along the bitangent when `anisotropic` is allowed (both, and
-/// not with `alpha`, as Mitsuba 3 requires).
-///
-/// ppm's one microfacet distribution is GGX (Trowbridge-Reitz). Mitsuba 3's default
-/// `distribution` is `beckmann`; it is rendered as GGX of the same alpha, with a warning: the
-/// two agree near the mirror direction's peak for small alpha (both tend to the same
-/// Gaussian-like lobe of width alpha), but GGX has longer tails (its D falls off as
-/// `1 / tan^4 theta`, Beckmann's as `exp(-tan^2 theta / alpha^2)`), so highlights get a
-/// wider glow and rough surfaces look slightly different. `sample_visible` only changes
-/// Mitsuba's sampling, not the image: ppm always samples the visible normals.
-pub fn roughness(
-    p: &Props,
-    anisotropic: bool,
-    warnings: &mut Vec<String>,
-) -> Result<Ggx, LoadError> {
-    let distribution = p.string_opt("distribution")?.unwrap_or("beckmann");
-    match distribution {
-        "ggx" => {}
-        "beckmann" => warnings.push(format!(
-            "{}: {}: distribution `beckmann`{} is rendered as GGX of the same alpha: ppm has only GGX, whose highlights have longer tails",
-            p.location(),
-            p.object.describe(),
-            if p.get("distribution").is_some() { "" } else { " (Mitsuba's default)" }
-        )),
+/// The microfacet distribution of the object: `distribution` `beckmann` (Mitsuba 3's default)
+/// or `ggx`, of roughness `alpha` (default 0.1), or `alpha_u` along the tangent and `alpha_v`
+/// along the bitangent when `anisotropic` is allowed (both, and not with `alpha`, as Mitsuba 3
+/// requires). Both distributions are ppm's own, with the same D and separable Smith G as
+/// Mitsuba's. `sample_visible` only changes Mitsuba's sampling, not the image: ppm samples
+/// the visible normals for GGX and `D(m) cos(theta_m)` for Beckmann either way.
+pub fn roughness(p: &Props, anisotropic: bool) -> Result<Microfacet, LoadError> {
+    let beckmann = match p.string_opt("distribution")?.unwrap_or("beckmann") {
+        "ggx" => false,
+        "beckmann" => true,
         other => {
             return Err(p.error(format!(
                 "{}: unknown distribution `{other}` (Mitsuba's are `beckmann` and `ggx`)",
                 p.object.describe()
             )))
         }
-    }
+    };
     p.boolean("sample_visible", true)?;
     let (alpha, u, v) = (
         alpha(p, "alpha")?,
@@ -73,7 +58,11 @@ pub fn roughness(
             (a, a)
         }
     };
-    Ok(Ggx::new(ax as f32, ay as f32))
+    Ok(if beckmann {
+        Beckmann::new(ax as f32, ay as f32).into()
+    } else {
+        Ggx::new(ax as f32, ay as f32).into()
+    })
 }
 
 /// A roughness: a finite, non-negative float (a texture is an error naming it).

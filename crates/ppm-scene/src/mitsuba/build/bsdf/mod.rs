@@ -36,17 +36,17 @@ fn bsdf_at(
     let bsdf = match p.object.plugin.as_str() {
         "diffuse" => diffuse(&p)?,
         "conductor" => conductor::conductor(&p)?,
-        "roughconductor" => conductor::roughconductor(&p, warnings)?,
+        "roughconductor" => conductor::roughconductor(&p)?,
         "dielectric" => dielectric::dielectric(&p, None)?,
         "roughdielectric" => {
-            let ggx = microfacet::roughness(&p, true, warnings)?;
-            dielectric::dielectric(&p, Some(ggx))?
+            let dist = microfacet::roughness(&p, true)?;
+            dielectric::dielectric(&p, Some(dist))?
         }
         "thindielectric" => dielectric::thindielectric(&p)?,
         "plastic" => dielectric::plastic(&p, None)?,
         "roughplastic" => {
-            let ggx = microfacet::roughness(&p, false, warnings)?;
-            dielectric::plastic(&p, Some(ggx))?
+            let dist = microfacet::roughness(&p, false)?;
+            dielectric::plastic(&p, Some(dist))?
         }
         "twosided" => twosided(&p, depth, warnings)?,
         _ => return Err(unsupported(&tree.objects[index])),
