@@ -190,7 +190,7 @@ fn coloured_glass_box(fog: Vec3) -> Scene {
                 eta: 1.33,
                 specular_reflectance: Vec3::ONE,
                 specular_transmittance: Vec3::ONE,
-                roughness: Some(Ggx::isotropic(0.3)),
+                roughness: Some(Ggx::isotropic(0.3).into()),
             }),
             Vec3::ZERO,
         )

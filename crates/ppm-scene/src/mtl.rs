@@ -152,7 +152,7 @@ pub fn parse_mtl(
     if let Some((_, first)) = ignored.first() {
         let names: Vec<&str> = ignored.iter().map(|(k, _)| k.as_str()).collect();
         warnings.push(format!(
-            "{}:{first}: texture maps are not supported; ignored {} (the first on this line)",
+            "{}:{first}: texture maps other than map_Kd and map_Ks are not supported; ignored {} (the first on this line)",
             path.display(),
             names.join(", ")
         ));

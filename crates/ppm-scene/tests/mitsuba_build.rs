@@ -298,8 +298,8 @@ fn what_ppm_cannot_render_is_an_error_naming_it_and_its_place() {
             "scene.xml:6: unreferenced property `reflectancex` of bsdf `diffuse` at scene.xml:6",
         ),
         (
-            "<shape type=\"cube\"><bsdf type=\"diffuse\">\n<texture type=\"bitmap\" name=\"reflectance\"/></bsdf></shape>",
-            "scene.xml:6: texture `bitmap` (as `reflectance` of bsdf `diffuse`) is not supported yet",
+            "<shape type=\"cube\"><bsdf type=\"diffuse\">\n<texture type=\"mesh_attribute\" name=\"reflectance\"/></bsdf></shape>",
+            "scene.xml:6: texture `mesh_attribute` (as `reflectance` of bsdf `diffuse`) is not supported",
         ),
         (
             "\n<emitter type=\"sunsky\"/>",

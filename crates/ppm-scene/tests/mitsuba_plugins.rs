@@ -193,8 +193,8 @@ fn what_the_bsdfs_cannot_honour_is_an_error_naming_it() {
             "scene.xml:6: texture `bitmap` (as `alpha` of bsdf `roughconductor`) is not supported yet",
         ),
         (
-            "<shape type=\"sphere\"><bsdf type=\"plastic\">\n<texture type=\"checkerboard\" name=\"diffuse_reflectance\"/></bsdf></shape>",
-            "scene.xml:6: texture `checkerboard` (as `diffuse_reflectance` of bsdf `plastic`) is not supported yet",
+            "<shape type=\"sphere\"><bsdf type=\"plastic\">\n<texture type=\"mesh_attribute\" name=\"diffuse_reflectance\"/></bsdf></shape>",
+            "scene.xml:6: texture `mesh_attribute` (as `diffuse_reflectance` of bsdf `plastic`) is not supported",
         ),
         (
             "<shape type=\"sphere\">\n<bsdf type=\"twosided\"><bsdf type=\"diffuse\"/><bsdf type=\"plastic\"/></bsdf></shape>",
@@ -301,8 +301,8 @@ fn spot_and_directional_emitters_map_to_ppms() {
             "scene.xml:6: unreferenced property texture `bitmap` `texture` of emitter `spot`",
         ),
         (
-            "\n<emitter type=\"constant\"/>",
-            "scene.xml:6: emitter `constant` at scene.xml:6 is not supported yet",
+            "\n<emitter type=\"projector\"/>",
+            "scene.xml:6: emitter `projector` at scene.xml:6 is not supported yet",
         ),
     ] {
         let e = error(body);

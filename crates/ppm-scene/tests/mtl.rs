@@ -276,11 +276,17 @@ fn mtl_energy_gain_is_scaled_down_with_a_warning() {
 #[test]
 fn mtl_oddities_warn_instead_of_failing() {
     let mut warnings = Vec::new();
-    let text = "Kd 1 1 1\nnewmtl a\nKd spectral x.rfl\nmap_Kd tex.png\nnewmtl a\nKd 0.1 0.1 0.1\n";
+    let text =
+        "Kd 1 1 1\nnewmtl a\nKd spectral x.rfl\nmap_bump tex.png\nnewmtl a\nKd 0.1 0.1 0.1\n";
     let mats = parse_mtl(text, Path::new("t.mtl"), &mut warnings).unwrap();
     assert_eq!(mats.len(), 2);
     assert_eq!(mats[0].kd, None);
-    for needle in ["before any `newmtl`", "spectral", "map_Kd", "defined again"] {
+    for needle in [
+        "before any `newmtl`",
+        "spectral",
+        "map_bump",
+        "defined again",
+    ] {
         assert!(
             warnings
                 .iter()
@@ -333,7 +339,7 @@ fn material_warnings_name_the_mtl_line_not_the_obj() {
             ),
             (
                 "m.mtl",
-                "# a library\nnewmtl plain\nKd 0.5 0.5 0.5\nnewmtl hot\nKd 3 0 0\nmap_Kd t.png\n",
+                "# a library\nnewmtl plain\nKd 0.5 0.5 0.5\nnewmtl hot\nKd 3 0 0\nbump t.png\n",
             ),
         ],
     );
@@ -346,9 +352,9 @@ fn material_warnings_name_the_mtl_line_not_the_obj() {
         "{warnings:?}"
     );
     assert!(
-        warnings
-            .iter()
-            .any(|w| w.starts_with(&format!("{mtl}:6: texture maps are not supported"))),
+        warnings.iter().any(|w| w.starts_with(&format!(
+            "{mtl}:6: texture maps other than map_Kd and map_Ks are not supported"
+        ))),
         "{warnings:?}"
     );
 }

@@ -81,9 +81,9 @@ fn conductors_take_named_metals_rgb_or_a_reflectance() {
 #[test]
 fn roughness_is_remapped_to_alpha_by_a_square_root() {
     let alpha = |m: &str| match bsdf(m).0 {
-        Bsdf::Conductor(c) => c.roughness.map(|g| (g.alpha_x, g.alpha_y)),
-        Bsdf::Dielectric(d) => d.roughness.map(|g| (g.alpha_x, g.alpha_y)),
-        Bsdf::Plastic(p) => p.roughness.map(|g| (g.alpha_x, g.alpha_y)),
+        Bsdf::Conductor(c) => c.roughness.map(|g| (g.alpha_x(), g.alpha_y())),
+        Bsdf::Dielectric(d) => d.roughness.map(|g| (g.alpha_x(), g.alpha_y())),
+        Bsdf::Plastic(p) => p.roughness.map(|g| (g.alpha_x(), g.alpha_y())),
         other => panic!("{other:?}"),
     };
     assert_eq!(

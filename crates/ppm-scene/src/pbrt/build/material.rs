@@ -10,7 +10,7 @@ use super::super::scene::{Description, MaterialEntity};
 use super::super::spectrum::{self, IorPart, SpectrumValue};
 use crate::LoadError;
 use glam::DVec3;
-use ppm_core::bsdf::microfacet::Ggx;
+use ppm_core::bsdf::microfacet::{Ggx, Microfacet};
 use ppm_core::bsdf::Bsdf;
 
 /// The BSDF of material `m`.
@@ -125,7 +125,7 @@ fn plain_float(p: &ParamSet, name: &str, default: f64) -> Result<f64, LoadError>
 
 /// The GGX distribution of `roughness`/`uroughness`/`vroughness` (see the module
 /// documentation); `None` when effectively smooth.
-fn roughness(p: &ParamSet) -> Result<Option<Ggx>, LoadError> {
+fn roughness(p: &ParamSet) -> Result<Option<Microfacet>, LoadError> {
     let both = plain_float(p, "roughness", 0.0)?;
     let u = plain_float(p, "uroughness", both)?;
     let v = plain_float(p, "vroughness", both)?;
@@ -145,7 +145,7 @@ fn roughness(p: &ParamSet) -> Result<Option<Ggx>, LoadError> {
             "anisotropic roughness (u {u}, v {v}) is not supported yet: ppm's meshes carry no surface tangent to orient it"
         )));
     }
-    Ok(Some(Ggx::isotropic(ax as f32)))
+    Ok(Some(Ggx::isotropic(ax as f32).into()))
 }
 
 /// `eta` of a dielectric: a float, a constant spectrum, or a named glass (its index at 550 nm:
