@@ -374,11 +374,6 @@ fn the_field_of_view_spans_the_shorter_axis() {
     assert!(
         (tan_half("\"integer xresolution\" 20 \"integer yresolution\" 40") - 2.0 * t).abs() < 1e-6
     );
-    let e = error(&scene_with(
-        "Camera \"perspective\" \"float lensradius\" 0.1",
-        "",
-    ));
-    assert!(e.starts_with("scene.pbrt:1:1: Camera \"perspective\": lensradius 0.1: a thin lens (depth of field) is not supported yet"), "{e}");
     let e = error(&scene_with("Camera \"orthographic\"", ""));
     assert!(
         e.contains("Camera \"orthographic\": not supported yet"),
