@@ -1,12 +1,14 @@
 //! pbrt-v4 features ppm shares with its other formats: the thin lens (`lensradius`,
-//! `focaldistance`) builds the camera Mitsuba's `thinlens` builds.
+//! `focaldistance`) builds the camera Mitsuba's `thinlens` builds, and the constant
+//! `infinite` light is the YAML constant environment and lights a diffuse sphere to a L.
 
-use glam::Vec2;
+use glam::{Vec2, Vec3};
 use ppm_core::camera::Camera;
+use ppm_core::integrator::{Algorithm, RenderSettings, Renderer};
 use ppm_core::scene::SceneBuilder;
 use ppm_scene::mitsuba::parse_mitsuba;
 use ppm_scene::pbrt::parse_pbrt;
-use ppm_scene::LoadError;
+use ppm_scene::{parse_scene, LoadError};
 use std::path::Path;
 
 fn pbrt(text: &str) -> Result<(SceneBuilder, Vec<String>), LoadError> {
@@ -85,5 +87,77 @@ fn pbrt_lens_defaults_and_camera_scale() {
     assert!(
         e.starts_with("scene.pbrt:1:1: Camera \"perspective\": ") && e.contains("aperture"),
         "{e}"
+    );
+}
+
+/// A sphere of `reflectance` 0.5 seen from z = 5 under `LightSource "infinite"` `light`.
+fn sky_scene(light: &str) -> String {
+    format!(
+        "Scale -1 1 1\nLookAt 0 0 5  0 0 0  0 1 0\nCamera \"perspective\" \"float fov\" 20\n\
+         Film \"rgb\" \"integer xresolution\" 16 \"integer yresolution\" 16\nWorldBegin\n\
+         LightSource \"infinite\" {light}\n\
+         Material \"diffuse\" \"rgb reflectance\" [0.5 0.5 0.5]\nShape \"sphere\""
+    )
+}
+
+/// pbrt's `L` (an RGB illuminant renders as its RGB) times `scale` is the YAML constant
+/// environment's `color` times its `scale`; `illuminance` E rescales L to give an upward
+/// surface irradiance E (L = E / pi for unit L).
+#[test]
+fn a_constant_infinite_light_is_the_yaml_constant_environment() {
+    let (b, warnings) = pbrt(&sky_scene("\"rgb L\" [0.4 0.8 1.2] \"float scale\" 2")).unwrap();
+    assert!(warnings.is_empty(), "{warnings:?}");
+    let yaml = "camera: { position: [0, 0, 5], look_at: [0, 0, 0], up: [0, 1, 0], fov: 20 }
+materials:
+  white: { type: diffuse, color: [0.5, 0.5, 0.5] }
+objects:
+  - { type: sphere, center: [0, 0, 0], radius: 1, material: white }
+lights:
+  - { type: environment, color: [0.4, 0.8, 1.2], scale: 2 }
+";
+    let (y, _) = parse_scene(yaml, Path::new("sky.yml")).unwrap();
+    for d in [Vec3::X, Vec3::Y, Vec3::new(-0.3, -0.5, 0.8).normalize()] {
+        assert_eq!(b.lights[0].le_infinite(d), y.lights[0].le_infinite(d));
+        assert_eq!(b.lights[0].le_infinite(d), Vec3::new(0.8, 1.6, 2.4));
+    }
+    let (b, _) = pbrt(&sky_scene("\"float illuminance\" 3.14159265")).unwrap();
+    let l = b.lights[0].le_infinite(Vec3::Z);
+    assert!((l - Vec3::ONE).abs().max_element() < 1e-6, "{l}");
+}
+
+/// A furnace-like check: a convex Lambertian sphere of albedo a under a constant sky L
+/// reflects L_o = a L in every direction (the rendering equation with L_i = L over the
+/// hemisphere: a / pi * L * pi), and the sky around it is L.
+#[test]
+fn a_diffuse_sphere_under_a_constant_sky_reflects_a_l() {
+    let (b, _) = pbrt(&sky_scene("\"rgb L\" [0.4 0.8 1.2] \"float scale\" 2")).unwrap();
+    let scene = b.build().unwrap();
+    let settings = RenderSettings {
+        seed: 3,
+        ..RenderSettings::for_algorithm(&scene, Algorithm::Path)
+    };
+    let mut r = Renderer::new(&scene, &settings);
+    for _ in 0..64 {
+        r.iterate(&scene);
+    }
+    let image = r.image();
+    let sky = Vec3::new(0.8, 1.6, 2.4);
+    // Corner pixels look at least 12 degrees off axis; the sphere subtends 11.5.
+    for (x, y) in [(0, 0), (15, 0), (0, 15), (15, 15)] {
+        let c = image.get(x, y);
+        assert!((c - sky).abs().max_element() < 1e-5, "({x}, {y}): {c}");
+    }
+    // The central 6 x 6 pixels see only the sphere.
+    let mut sum = Vec3::ZERO;
+    for y in 5..11 {
+        for x in 5..11 {
+            sum += image.get(x, y);
+        }
+    }
+    let mean = sum / 36.0;
+    let want = 0.5 * sky;
+    assert!(
+        ((mean - want) / want).abs().max_element() < 0.02,
+        "{mean} vs a L = {want}"
     );
 }

@@ -268,10 +268,12 @@ fn area_lights_emit_their_l_or_their_power() {
         "AreaLightSource \"diffuse\" \"bool twosided\" true\nShape \"sphere\"",
     ));
     assert!(e.starts_with("scene.pbrt:7:1: AreaLightSource \"diffuse\": twosided area lights are not supported yet"), "{e}");
-    let e = error(&scene("LightSource \"infinite\" \"rgb L\" [1 1 1]"));
+    let e = error(&scene(
+        "LightSource \"infinite\" \"string filename\" \"sky.exr\"",
+    ));
     assert!(
         e.starts_with(
-            "scene.pbrt:7:1: LightSource \"infinite\": an environment light is not supported yet"
+            "scene.pbrt:7:1: LightSource \"infinite\": filename \"sky.exr\": pbrt-v4's equal-area octahedral maps are not supported yet"
         ),
         "{e}"
     );
