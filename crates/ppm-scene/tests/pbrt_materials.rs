@@ -165,7 +165,8 @@ fn unsupported_materials_and_textures_are_errors_naming_them() {
         ("Material \"interface\"", "medium boundary) is not supported yet"),
         ("Material \"diffuse\" \"rgb reflectance\" [1.5 0 0]", "scene.pbrt:7:20: Material \"diffuse\": \"rgb reflectance\": the reflectance [1.5, 0, 0] has a component outside [0, 1]"),
         ("Material \"diffuse\" \"float displacement\" 1", "unknown or unsupported parameter \"float displacement\""),
-        ("Texture \"t\" \"spectrum\" \"imagemap\" \"string filename\" \"a.png\"\nMaterial \"diffuse\" \"texture reflectance\" \"t\"", "scene.pbrt:8:20: Material \"diffuse\": \"texture reflectance\": texture \"t\" (spectrum \"imagemap\" at scene.pbrt:7:1) is not supported yet"),
+        ("Texture \"t\" \"spectrum\" \"marble\"\nMaterial \"diffuse\" \"texture reflectance\" \"t\"", "scene.pbrt:8:20: Material \"diffuse\": \"texture reflectance\": texture \"t\" (spectrum \"marble\" at scene.pbrt:7:1) is not supported yet"),
+        ("Texture \"t\" \"spectrum\" \"checkerboard\"\nMaterial \"conductor\" \"texture reflectance\" \"t\"", "texture \"t\" (spectrum \"checkerboard\" at scene.pbrt:7:1) is not supported yet here"),
         ("Material \"conductor\" \"texture roughness\" \"r\"", "float textures (\"r\") are not supported yet"),
         ("Material \"coateddiffuse\" \"rgb albedo\" [0.5 0.5 0.5]", "a scattering coating (albedo > 0) is not supported yet"),
     ];
