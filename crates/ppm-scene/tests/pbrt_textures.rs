@@ -167,3 +167,41 @@ fn what_cannot_carry_a_texture_is_an_error() {
         assert!(e.contains(want), "{texture}:\n  got  {e}\n  want {want}");
     }
 }
+
+/// Through the camera (and the importer's world mirror, with and without pbrt's
+/// `Scale -1 1 1`), the image stands upright on a quad whose uv is its xy, as pbrt shows it:
+/// the file's top row (red, green) at the quad's top. The camera looks down -z at the quad's
+/// centre; with `Scale -1 1 1` +x is on the image's right, without it on the left.
+#[test]
+fn an_imagemap_stands_upright_on_a_uv_quad() {
+    use ppm_core::bsdf::Bsdf;
+    let d = dir("upright");
+    write_png(&d.join("rgbw.png"));
+    for (transform, x_right) in [("Scale -1 1 1", true), ("", false)] {
+        let text = scene(
+            "\"imagemap\" \"string filename\" \"rgbw.png\" \"string filter\" \"point\"",
+            QUAD,
+        )
+        .replacen("Scale -1 1 1", transform, 1);
+        let scene = load(&d, &text).unwrap().0.build().unwrap();
+        // Film 8 x 8, fov 90 at distance 3: the quad spans pixels 3.33 to 4.67.
+        let albedo = |film: Vec2| {
+            let hit = scene.intersect(&scene.camera.generate_ray(film)).unwrap();
+            match scene.bsdf(&hit) {
+                Bsdf::Diffuse(b) => b.albedo,
+                other => panic!("{other:?}"),
+            }
+        };
+        let (left, right) = (3.6, 4.4);
+        let (top, bottom) = (3.6, 4.4);
+        let (small_x, large_x) = if x_right {
+            (left, right)
+        } else {
+            (right, left)
+        };
+        assert_eq!(albedo(Vec2::new(small_x, top)), RED, "`{transform}`");
+        assert_eq!(albedo(Vec2::new(large_x, top)), GREEN, "`{transform}`");
+        assert_eq!(albedo(Vec2::new(small_x, bottom)), BLUE, "`{transform}`");
+        assert_eq!(albedo(Vec2::new(large_x, bottom)), WHITE, "`{transform}`");
+    }
+}
