@@ -62,13 +62,12 @@ pub fn camera(
             return Err(params.error("not supported yet (only perspective is)"));
         }
     }
-    let lens = params.float("lensradius", 0.0)?;
-    if lens != 0.0 {
-        return Err(params.error(format!(
-            "lensradius {lens}: a thin lens (depth of field) is not supported yet"
-        )));
-    }
-    params.ignore(&["focaldistance", "shutteropen", "shutterclose"]);
+    // The thin lens (pbrt-v4 `CameraBase`/`PerspectiveCamera::Create`): aperture radius
+    // `lensradius` (default 0, the pinhole) focused at `focaldistance` (default 10^6), both
+    // in camera space.
+    let lens_radius = params.float("lensradius", 0.0)?;
+    let focal_distance = params.float("focaldistance", 1e6)?;
+    params.ignore(&["shutteropen", "shutterclose"]);
     if params.has("screenwindow") {
         params.get("screenwindow");
         return Err(params.error("screenwindow is not supported yet"));
@@ -121,6 +120,9 @@ pub fn camera(
     } else {
         reflection(position, ppm_right)
     };
+    // pbrt generates the lens ray in camera space and maps it to the world, so a camera
+    // transform of uniform scale s scales the aperture and the focus distance by s; the
+    // world mirror keeps distances, so it changes neither.
     let camera = Camera::new(
         position.as_vec3(),
         (position + forward).as_vec3(),
@@ -128,6 +130,7 @@ pub fn camera(
         vertical as f32,
         (width, height),
     )
+    .and_then(|c| c.with_lens((lens_radius * s) as f32, (focal_distance * s) as f32))
     .map_err(|e| params.error(e))?;
     Ok((camera, mirror))
 }

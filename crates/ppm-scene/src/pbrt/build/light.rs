@@ -1,4 +1,4 @@
-//! `LightSource` (point, spot, distant) and `AreaLightSource "diffuse"` to ppm's lights and
+//! `LightSource` (point, spot, distant, infinite with a constant `L`) and `AreaLightSource "diffuse"` to ppm's lights and
 //! emission. Colours follow pbrt-v4's photometric normalisation (`spectrum.rs`): an `rgb`
 //! emission renders as that RGB, times `scale`; `power` (point, spot, area) and
 //! `illuminance` (distant) rescale as pbrt-v4's `*Light::Create` do, by the normalised
@@ -10,7 +10,7 @@ use super::super::scene::{Entity, LightEntity};
 use super::super::spectrum;
 use crate::LoadError;
 use glam::{DMat4, DVec3};
-use ppm_core::light::{Light, PointLight};
+use ppm_core::light::{EnvironmentLight, EnvironmentMap, Light, PointLight};
 use ppm_core::scene::SceneBuilder;
 use std::f64::consts::PI;
 
@@ -115,7 +115,7 @@ pub fn add_light(
         "distant" => {
             let mut irradiance = emission(&p, "L")?;
             if let Some(e_v) = target(&p, "illuminance")? {
-                irradiance *= e_v;
+                irradiance *= e_v / PI;
             }
             let from = place(&p, m, "from", DVec3::ZERO)?;
             let to = place(&p, m, "to", DVec3::Z)?;
@@ -124,13 +124,37 @@ pub fn add_light(
                 .ok_or_else(|| p.error("from equals to"))?;
             builder.add_light(light);
         }
+        // A constant environment: radiance L from every direction, times `scale`; pbrt-v4
+        // (`UniformInfiniteLight`, `Light::Create`) rescales it by E / k_e for an
+        // `illuminance` E, with k_e = pi the irradiance unit radiance gives an upward
+        // surface (the integral of cos theta over the hemisphere).
         "infinite" => {
-            return Err(p.error("an environment light is not supported yet"));
+            if let Some(name) = p.string_opt("filename")? {
+                return Err(p.error(format!(
+                    "filename \"{name}\": pbrt-v4's equal-area octahedral maps are not supported yet (ppm's environment maps are lat-long; only a constant L is)"
+                )));
+            }
+            if p.has("portal") {
+                p.get("portal");
+                return Err(p.error("portal is not supported yet"));
+            }
+            let mut radiance = emission(&p, "L")?;
+            if let Some(e_v) = target(&p, "illuminance")? {
+                radiance *= e_v / PI;
+            }
+            p.finish()?;
+            let light = EnvironmentLight::new(
+                EnvironmentMap::Constant(finite(&p, radiance)?),
+                1.0,
+                glam::Mat3::IDENTITY,
+            )
+            .ok_or_else(|| p.error("not a valid environment light"))?;
+            builder.add_light(Light::Environment(light));
         }
         _ => {
-            return Err(
-                p.error("light type not supported yet (point, spot, distant and area lights are)")
-            )
+            return Err(p.error(
+                "light type not supported yet (point, spot, distant, infinite and area lights are)",
+            ))
         }
     }
     Ok(())

@@ -8,17 +8,20 @@
 use super::super::params::{Param, ParamSet, ParamType};
 use super::super::scene::{Description, MaterialEntity};
 use super::super::spectrum::{self, IorPart, SpectrumValue};
+use super::texture::reflectance_texture;
 use crate::LoadError;
 use glam::DVec3;
 use ppm_core::bsdf::microfacet::{Ggx, Microfacet};
 use ppm_core::bsdf::Bsdf;
+use ppm_core::texture::{ColourSlot, Texture};
 
-/// The BSDF of material `m`.
+/// The BSDF of material `m` and the textures that drive its colours (a `diffuse`
+/// `reflectance` may be an `imagemap` or `checkerboard` texture, `texture.rs`).
 pub fn bsdf(
     desc: &Description,
     m: &MaterialEntity,
     warnings: &mut Vec<String>,
-) -> Result<Bsdf, LoadError> {
+) -> Result<(Bsdf, Vec<(ColourSlot, Texture)>), LoadError> {
     let e = &m.entity;
     let what = match &m.name {
         Some(name) => format!("material \"{name}\""),
@@ -32,8 +35,19 @@ pub fn bsdf(
             .to_string(),
         _ => e.kind.clone(),
     };
+    let mut textures = Vec::new();
     let bsdf = match kind.as_str() {
-        "diffuse" => Bsdf::diffuse(reflectance(desc, &p, "reflectance", 0.5)?.as_vec3()),
+        "diffuse" => {
+            if let Some((SpectrumValue::Texture(t), param)) = p.spectrum("reflectance")? {
+                if let Some(texture) = reflectance_texture(desc, &p, param, &t, warnings)? {
+                    let mean = texture.mean();
+                    textures.push((ColourSlot::DiffuseReflectance, texture));
+                    p.finish()?;
+                    return Ok((Bsdf::diffuse(mean), textures));
+                }
+            }
+            Bsdf::diffuse(reflectance(desc, &p, "reflectance", 0.5)?.as_vec3())
+        }
         "conductor" => conductor(desc, &p)?,
         "dielectric" => {
             let eta = eta(&p)?;
@@ -53,7 +67,7 @@ pub fn bsdf(
         }
     };
     p.finish()?;
-    Ok(bsdf)
+    Ok((bsdf, textures))
 }
 
 /// A reflectance-valued parameter (pbrt's albedo spectra): rgb, sampled spectrum, or a
@@ -95,7 +109,7 @@ fn constant_texture(
         return Err(p.error_at(
             param,
             format!(
-                "texture \"{name}\" ({} \"{}\" at {}) is not supported yet: only constant spectrum textures are",
+                "texture \"{name}\" ({} \"{}\" at {}) is not supported yet here: only constant spectrum textures are (and imagemap or checkerboard as a diffuse reflectance)",
                 t.value_type, t.entity.kind, t.entity.loc
             ),
         ));

@@ -6,6 +6,7 @@ mod camera;
 mod light;
 mod material;
 mod shape;
+mod texture;
 
 use super::params::ParamSet;
 use super::scene::{Description, MaterialEntity, MaterialRef, ShapeEntity};
@@ -15,6 +16,7 @@ use ppm_core::bsdf::Bsdf;
 use ppm_core::integrator::MAX_DEPTH;
 use ppm_core::material::Material;
 use ppm_core::scene::{RenderDefaults, SceneBuilder};
+use ppm_core::texture::{ColourSlot, Texture};
 use shape::{Geometry, PlyCache};
 use std::collections::HashMap;
 
@@ -41,12 +43,23 @@ pub fn build(desc: &Description, warnings: &mut Vec<String>) -> Result<SceneBuil
     };
     settings_warnings(desc, warnings)?;
 
-    let mut materials: HashMap<MaterialKey, (u32, Bsdf)> = HashMap::new();
+    let mut materials: HashMap<MaterialKey, (u32, Textured)> = HashMap::new();
     let mut cache = PlyCache::default();
     let mut triangles = 0usize;
     for s in &desc.shapes {
         let geometry = shape::geometry(s, mirror * s.ctm, &desc.main_folder, &mut cache, warnings)?;
-        let (index, bsdf) = material_of(desc, s, &mut materials, &mut builder, warnings)?;
+        let (index, (bsdf, textures)) =
+            material_of(desc, s, &mut materials, &mut builder, warnings)?;
+        let has_uv = match &geometry {
+            Geometry::Mesh(m) => !m.uvs.is_empty(),
+            Geometry::Sphere(_) => false,
+        };
+        if !textures.is_empty() && !has_uv {
+            return Err(s.entity.loc.error(format!(
+                "Shape \"{}\": its material has a texture, and only a trianglemesh with \"point2 uv\" gives ppm pbrt's uv (not supported yet on other shapes)",
+                s.entity.kind
+            )));
+        }
         let material = match &s.area_light {
             None => index,
             Some(light) => {
@@ -55,9 +68,15 @@ pub fn build(desc: &Description, warnings: &mut Vec<String>) -> Result<SceneBuil
                     Geometry::Sphere(sp) => sp.area() as f64,
                 };
                 let le = light::area_radiance(light, area)?;
-                builder.add_material(
-                    Material::new(bsdf, le).named(format!("area light ({})", s.entity.loc)),
-                )
+                let m = Material::new(bsdf, le)
+                    .named(format!("area light ({})", s.entity.loc))
+                    .textured(textures)
+                    .map_err(|slot| {
+                        s.entity
+                            .loc
+                            .error(format!("{} cannot be textured", slot.name()))
+                    })?;
+                builder.add_material(m)
             }
         };
         match geometry {
@@ -111,6 +130,9 @@ pub fn build(desc: &Description, warnings: &mut Vec<String>) -> Result<SceneBuil
     Ok(builder)
 }
 
+/// A material's BSDF and the textures of its colours.
+type Textured = (Bsdf, Vec<(ColourSlot, Texture)>);
+
 /// A material as shapes name it.
 #[derive(Clone, PartialEq, Eq, Hash)]
 enum MaterialKey {
@@ -122,10 +144,10 @@ enum MaterialKey {
 fn material_of(
     desc: &Description,
     s: &ShapeEntity,
-    materials: &mut HashMap<MaterialKey, (u32, Bsdf)>,
+    materials: &mut HashMap<MaterialKey, (u32, Textured)>,
     builder: &mut SceneBuilder,
     warnings: &mut Vec<String>,
-) -> Result<(u32, Bsdf), LoadError> {
+) -> Result<(u32, Textured), LoadError> {
     let (key, entity): (MaterialKey, &MaterialEntity) = match &s.material {
         MaterialRef::Anonymous(i) => (MaterialKey::Anonymous(*i), &desc.materials[*i]),
         MaterialRef::Named(name, loc) => (
@@ -135,17 +157,26 @@ fn material_of(
                 .ok_or_else(|| loc.error(format!("NamedMaterial: no material \"{name}\"")))?,
         ),
     };
-    if let Some(&found) = materials.get(&key) {
-        return Ok(found);
+    if let Some(found) = materials.get(&key) {
+        return Ok(found.clone());
     }
-    let bsdf = material::bsdf(desc, entity, warnings)?;
+    let (bsdf, textures) = material::bsdf(desc, entity, warnings)?;
     let name = match &entity.name {
         Some(n) => n.clone(),
         None => format!("{} ({})", entity.entity.kind, entity.entity.loc),
     };
-    let index = builder.add_material(Material::new(bsdf, Vec3::ZERO).named(name));
-    materials.insert(key, (index, bsdf));
-    Ok((index, bsdf))
+    let material = Material::new(bsdf, Vec3::ZERO)
+        .named(name)
+        .textured(textures.clone())
+        .map_err(|slot| {
+            entity
+                .entity
+                .loc
+                .error(format!("{} cannot be textured", slot.name()))
+        })?;
+    let index = builder.add_material(material);
+    materials.insert(key, (index, (bsdf, textures.clone())));
+    Ok((index, (bsdf, textures)))
 }
 
 /// The area of a mesh in double precision.

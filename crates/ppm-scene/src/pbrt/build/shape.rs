@@ -68,16 +68,23 @@ pub fn geometry(
         "cylinder" => cylinder(&p)?,
         _ => return Err(p.error("shape type not supported yet (trianglemesh, plymesh, bilinearmesh, sphere, disk and cylinder are)")),
     };
+    // A trianglemesh's per-vertex `uv` (checked by `vertices`) is kept as given; textures
+    // apply pbrt's conventions on top (`texture.rs`).
+    let uvs = match e.kind.as_str() {
+        "trianglemesh" => p.point2s("uv")?.unwrap_or_default(),
+        _ => Vec::new(),
+    };
     p.finish()?;
-    place(
+    let mut mesh = place(
         positions,
         normals,
         indices,
         to_world,
         shape.reverse_orientation,
         &p,
-    )
-    .map(Geometry::Mesh)
+    )?;
+    mesh.uvs = uvs.iter().map(|uv| uv.as_vec2()).collect();
+    Ok(Geometry::Mesh(mesh))
 }
 
 type Parts = (Vec<DVec3>, Vec<DVec3>, Vec<[u32; 3]>);
@@ -105,8 +112,7 @@ fn grouped_indices(p: &ParamSet, n: usize, k: usize) -> Result<Vec<Vec<u32>>, Lo
         .collect())
 }
 
-/// `P` and the optional `N` (one per vertex); `uv` is read and not used (ppm does not
-/// texture yet).
+/// `P` and the optional `N` (one per vertex); `uv` is checked here and read by `geometry`.
 fn vertices(p: &ParamSet) -> Result<(Vec<DVec3>, Vec<DVec3>), LoadError> {
     let positions = p
         .triples("P", ParamType::Point3)?
