@@ -192,7 +192,17 @@ fn a_stop_in_a_deep_closed_scene_is_seen_at_once_by_every_algorithm() {
     for algorithm in ["vcm", "bpt", "bpm", "lt", "sppm", "ppm", "pt"] {
         let dir = tempfile::tempdir().unwrap();
         std::fs::write(dir.path().join("sphere.yml"), GLOWING_SPHERE).unwrap();
-        let args = ["sphere.yml", "-a", algorithm, "--max-depth", "4294967295"];
+        // Iterations enough that no algorithm finishes before the stop (light tracing alone
+        // runs 32 iterations of this scene in about a second).
+        let args = [
+            "sphere.yml",
+            "-a",
+            algorithm,
+            "--max-depth",
+            "4294967295",
+            "-n",
+            "1000000",
+        ];
         let (child, lines) = spawn(dir.path(), &args);
         // Printed after loading, just before rendering starts; then well into the iteration.
         let mut err = wait_for_line(&lines, "above the supported 1024");
