@@ -661,7 +661,8 @@ fn environment_image() -> Light {
         })
         .collect();
     let map = EnvironmentMap::Image(Arc::new(LatLongMap::new(w, h, texels).unwrap()));
-    let rotation = Mat3::from_rotation_y(70f32.to_radians()) * Mat3::from_rotation_x(std::f32::consts::FRAC_PI_6);
+    let rotation = Mat3::from_rotation_y(70f32.to_radians())
+        * Mat3::from_rotation_x(std::f32::consts::FRAC_PI_6);
     let mut light = Light::Environment(EnvironmentLight::new(map, 0.8, rotation).unwrap());
     light.preprocess(BOUNDS);
     light
