@@ -200,6 +200,7 @@ pub fn run(args: &ConvergeArgs, interrupt: &Interrupt) -> Result<Outcome> {
     }
     let mut runs = Vec::new();
     let mut threads = 0;
+    setup::warn_if_threads_capped(args.settings.threads);
     setup::with_threads(args.settings.threads, || -> Result<()> {
         threads = rayon::current_num_threads();
         for &algorithm in &algorithms {

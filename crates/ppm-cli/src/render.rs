@@ -187,6 +187,7 @@ pub fn run(args: &RenderArgs, interrupt: &Interrupt) -> Result<Outcome> {
         );
     }
     let size = (scene.camera.width, scene.camera.height);
+    setup::warn_if_threads_capped(args.settings.threads);
     let threads = setup::with_threads(args.settings.threads, rayon::current_num_threads)?;
     let start = resume::plan(
         &StartArgs {

@@ -283,3 +283,32 @@ fn resume_takes_the_settings_from_the_file() {
     );
     assert!(err.contains("ppm.seed"), "{err}");
 }
+
+/// `--threads` far beyond the machine's cores is capped at 16 per core (at least 64) with a
+/// warning, and renders the same image as one thread: 4096 threads on 2 cores once made a
+/// 32 x 32 iteration take a minute.
+#[test]
+fn a_huge_thread_count_is_capped_with_a_warning() {
+    let dir = tempfile::tempdir().unwrap();
+    tiny_scene(dir.path());
+    let many = run(
+        dir.path(),
+        &["tiny.yml", "-t", "4096", "-n", "2", "-o", "many.exr"],
+    );
+    assert_ok(&many);
+    let err = stderr(&many);
+    assert!(
+        err.contains("warning: --threads 4096 is more than this machine can use; using"),
+        "{err}"
+    );
+    let one = run(
+        dir.path(),
+        &["tiny.yml", "-t", "1", "-n", "2", "-o", "one.exr"],
+    );
+    assert_ok(&one);
+    assert!(!stderr(&one).contains("--threads"), "{}", stderr(&one));
+    assert_eq!(
+        read_exr(&dir.path().join("many.exr")).2,
+        read_exr(&dir.path().join("one.exr")).2
+    );
+}
