@@ -125,6 +125,18 @@ impl SceneBuilder {
         self.spheres.push(sphere);
     }
 
+    /// True if the scene has a light: a non-area light, or an emissive material on a sphere
+    /// or a triangle. The importers warn of a black image without one.
+    pub fn has_light(&self) -> bool {
+        let emits = |m: u32| self.materials[m as usize].is_emissive();
+        !self.lights.is_empty()
+            || self.spheres.iter().any(|s| emits(s.material))
+            || self
+                .meshes
+                .iter()
+                .any(|mesh| mesh.materials.iter().any(|&m| emits(m)))
+    }
+
     /// Adds a light that is not emissive geometry (a point, spot or directional light). An area light
     /// added here is refused by [`SceneBuilder::build`]: area lights are made from the
     /// materials' emission, so that the geometry a camera path hits and the light agree.

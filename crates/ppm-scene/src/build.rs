@@ -221,14 +221,7 @@ pub fn build(
             warnings.push(format!("{}: materials.{name}: never used", path.display()));
         }
     }
-    let emits = |m: u32| builder.materials[m as usize].is_emissive();
-    let has_light = !builder.lights.is_empty()
-        || builder.spheres.iter().any(|s| emits(s.material))
-        || builder
-            .meshes
-            .iter()
-            .any(|mesh| mesh.materials.iter().any(|&m| emits(m)));
-    if !has_light {
+    if !builder.has_light() {
         warnings.push(format!(
             "{}: the scene has no light (no emissive material on any object, no point, spot, directional or environment light): the image will be black",
             path.display()

@@ -114,14 +114,7 @@ pub fn build(desc: &Description, warnings: &mut Vec<String>) -> Result<SceneBuil
             ));
         }
     }
-    let emits = |m: u32| builder.materials[m as usize].is_emissive();
-    let has_light = !builder.lights.is_empty()
-        || builder.spheres.iter().any(|s| emits(s.material))
-        || builder
-            .meshes
-            .iter()
-            .any(|mesh| mesh.materials.iter().any(|&m| emits(m)));
-    if !has_light {
+    if !builder.has_light() {
         warnings.push(format!(
             "{}: the scene has no light ppm renders: the image will be black",
             file.display()
