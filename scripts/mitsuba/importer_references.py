@@ -40,6 +40,7 @@ SCENES = {
     "thin_pane": ("thin_pane.xml", {}),
     "spot": ("spot.xml", {}),
     "directional": ("directional.xml", {}),
+    "floor_lamp": ("floor_lamp.xml", {}),
 }
 HEADER = "scene,spp,seeds,mean_r,mean_g,mean_b,se_r,se_g,se_b"
 

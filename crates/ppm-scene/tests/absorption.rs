@@ -221,8 +221,10 @@ fn the_coloured_glass_sphere_matches_mitsuba() {
         let what = ["image", "red", "green", "blue"][k];
         eprintln!("absorbing sphere, {what}: ppm {mean} +- {se}, Mitsuba {r} +- {r_se}");
         // The image mean within 1%; each channel, which the medium colours differently,
-        // within 2% (ppm and Mitsuba differ by 0.5% on this floor and light without the
-        // sphere, as on the Cornell box of mitsuba_build.rs).
+        // within 2%. The bounds are for noise, not for a known difference: the caustic is
+        // heavy-tailed for a path tracer, and these 1024 samples land 0.9% above Mitsuba,
+        // while 4096 (`ppm absorbing_sphere.xml -a pt -n 4096 --seed 3`) are within 0.01%.
+        // Floor and light alone match the closed form (tests/analytic_lamp.rs).
         let bound = if k == 0 { 0.01 } else { 0.02 };
         assert!(
             (mean - r).abs() < bound * r,
