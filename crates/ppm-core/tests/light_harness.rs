@@ -30,7 +30,9 @@ use common::{seed, Stats};
 use glam::Mat3;
 use glam::Vec3;
 use ppm_core::geometry::{intersect_triangle, Sphere, Triangle};
-use ppm_core::light::{EnvironmentLight, EnvironmentMap, LatLongMap, Light, LightKind, PointLight};
+use ppm_core::light::{
+    EnvironmentLight, EnvironmentMap, EqualAreaMap, LatLongMap, Light, LightKind, PointLight,
+};
 use ppm_core::sampling::{uniform_sphere, Rng};
 use std::f64::consts::PI;
 use std::sync::Arc;
@@ -629,6 +631,36 @@ light_harness! {
         Vec3::ZERO,
         Vec3::new(-1.0, 0.5, 0.3),
     ],
+    environment_equal_area: environment_equal_area() => [
+        Vec3::ZERO,
+        Vec3::new(1.5, -0.5, -0.8),
+    ],
+}
+
+/// A 12 x 12 equal-area map (pbrt-v4's) with a gradient, a bright texel in the lower
+/// hemisphere (a corner triangle) and a black row, turned and mirrored (determinant -1, as
+/// pbrt's importer mirrors a world).
+fn environment_equal_area() -> Light {
+    let n = 12;
+    let texels = (0..n * n)
+        .map(|k| {
+            let (x, y) = ((k % n) as f32, (k / n) as f32);
+            if y == 7.0 {
+                Vec3::ZERO
+            } else if (x, y) == (1.0, 10.0) {
+                Vec3::new(300.0, 400.0, 100.0)
+            } else {
+                Vec3::new(0.1 + 0.04 * x, 0.5, 0.2 + 0.06 * y)
+            }
+        })
+        .collect();
+    let map = EnvironmentMap::EqualArea(Arc::new(EqualAreaMap::new(n, texels).unwrap()));
+    let turn = Mat3::from_diagonal(Vec3::new(-1.0, 1.0, 1.0))
+        * Mat3::from_rotation_x(-std::f32::consts::FRAC_PI_2)
+        * Mat3::from_rotation_z(0.4);
+    let mut light = Light::Environment(EnvironmentLight::new(map, 1.3, turn).unwrap());
+    light.preprocess(BOUNDS);
+    light
 }
 
 /// The bounds the lights at infinity are preprocessed with: the box [-1, 2] x [-1, 1] x

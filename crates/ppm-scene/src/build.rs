@@ -245,6 +245,7 @@ fn light(l: &LightDesc, field: &str, origin: DVec3, path: &Path) -> Result<Light
         ("file", l.file.is_some()),
         ("scale", l.scale.is_some()),
         ("rotate", l.rotate.is_some()),
+        ("mapping", l.mapping.is_some()),
     ];
     let allowed: &[&str] = match l.kind {
         LightType::Point => &["position", "intensity"],
@@ -257,7 +258,7 @@ fn light(l: &LightDesc, field: &str, origin: DVec3, path: &Path) -> Result<Light
             "falloff_start",
         ],
         LightType::Directional => &["direction", "irradiance"],
-        LightType::Environment => &["color", "file", "scale", "rotate"],
+        LightType::Environment => &["color", "file", "scale", "rotate", "mapping"],
     };
     check_fields(path, field, kind, &present, allowed)?;
     let invalid = |name: &str, why: String| LoadError::invalid(path, format!("{field}{name}"), why);

@@ -485,6 +485,9 @@ impl Fingerprint {
                     .field("size", |f| f.list(&[w as u32, h as u32], |f, x| f.u32(*x)))
                     .field("texels", |f| f.list(m.texels(), |f, t| f.vec3(*t)))
             }
+            EnvironmentMap::EqualArea(m) => record
+                .field("equal_area_size", |f| f.u32(m.size() as u32))
+                .field("texels", |f| f.list(m.texels(), |f, t| f.vec3(*t))),
         };
         record
             .field("scale", |f| f.f32(scale))

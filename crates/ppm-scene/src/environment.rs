@@ -1,10 +1,11 @@
-//! `{ type: environment }` lights of scene format v1: a constant `color` or a lat-long
-//! radiance map `file` (radiance in W/(m^2 sr)), times `scale`, turned by `rotate`. The map's
-//! frame (`envmap.rs` in ppm-core) is Mitsuba 3's: its top row is +y, its left edge looks
-//! along -z and a quarter of the way across along +x.
+//! `{ type: environment }` lights of scene format v1: a constant `color` or a radiance map
+//! `file` (radiance in W/(m^2 sr)), times `scale`, turned by `rotate`. A map is lat-long by
+//! default, in Mitsuba 3's frame (`envmap.rs` in ppm-core: its top row is +y, its left edge
+//! looks along -z and a quarter of the way across along +x); `mapping: equal_area` reads it
+//! as pbrt-v4's equal-area octahedral square (`equal_area.rs`: its centre is +z).
 
 use crate::error::LoadError;
-use crate::yaml::LightDesc;
+use crate::yaml::{LightDesc, MapMapping};
 use glam::Mat3;
 use ppm_core::light::{EnvironmentLight, EnvironmentMap, Light};
 use std::path::Path;
@@ -13,13 +14,25 @@ use std::sync::Arc;
 /// The environment light of `l` (at `field` of the scene file `path`).
 pub(crate) fn light(l: &LightDesc, field: &str, path: &Path) -> Result<Light, LoadError> {
     let invalid = |name: &str, why: String| LoadError::invalid(path, format!("{field}{name}"), why);
+    if l.mapping.is_some() && l.file.is_none() {
+        return Err(invalid(
+            ".mapping",
+            "`mapping` says how an image `file` covers the sphere; this light has no file".into(),
+        ));
+    }
     let map = match (&l.color, &l.file) {
         (Some(c), None) => EnvironmentMap::Constant(c.value()),
         (None, Some(file)) => {
             let file_path = path.parent().unwrap_or(Path::new("")).join(file);
-            let map = crate::radiance_map::read_map(&file_path)
-                .map_err(|e| invalid(".file", format!("{}: {e}", file_path.display())))?;
-            EnvironmentMap::Image(Arc::new(map))
+            let why = |e: String| invalid(".file", format!("{}: {e}", file_path.display()));
+            match l.mapping.unwrap_or(MapMapping::Latlong) {
+                MapMapping::Latlong => EnvironmentMap::Image(Arc::new(
+                    crate::radiance_map::read_map(&file_path).map_err(why)?,
+                )),
+                MapMapping::EqualArea => EnvironmentMap::EqualArea(Arc::new(
+                    crate::radiance_map::read_equal_area_map(&file_path).map_err(why)?,
+                )),
+            }
         }
         (Some(_), Some(_)) => {
             return Err(invalid(

@@ -4,7 +4,7 @@
 //! buffer ([`ppm_core::light::LatLongMap`]); decoding lives here, with the other file formats.
 
 use glam::Vec3;
-use ppm_core::light::LatLongMap;
+use ppm_core::light::{EqualAreaMap, LatLongMap};
 use std::fs::File;
 use std::io::BufReader;
 use std::path::Path;
@@ -35,6 +35,19 @@ pub fn read_rgb(path: &Path) -> Result<RgbImage, String> {
 pub fn read_map(path: &Path) -> Result<LatLongMap, String> {
     let image = read_rgb(path)?;
     LatLongMap::new(image.width, image.height, image.texels).map_err(|e| e.to_string())
+}
+
+/// Reads `path` ([`read_rgb`]) as an equal-area octahedral radiance map (pbrt-v4's format,
+/// `equal_area.rs` in ppm-core): square, every texel finite and non-negative.
+pub fn read_equal_area_map(path: &Path) -> Result<EqualAreaMap, String> {
+    let image = read_rgb(path)?;
+    if image.width != image.height {
+        return Err(format!(
+            "an equal-area map is square; this image is {}x{}",
+            image.width, image.height
+        ));
+    }
+    EqualAreaMap::new(image.width, image.texels).map_err(|e| e.to_string())
 }
 
 fn read_exr(path: &Path) -> Result<RgbImage, String> {

@@ -169,6 +169,17 @@ pub struct LightDesc {
     pub scale: Option<Num<NonNegative>>,
     /// Rotates an environment light's map: `angle` degrees about `axis` (right-handed).
     pub rotate: Option<RotateDesc>,
+    /// How an environment light's `file` maps onto the sphere (default `latlong`).
+    pub mapping: Option<MapMapping>,
+}
+
+/// The parameterisation of an environment map's image: Mitsuba's latitude-longitude
+/// (`envmap.rs` in ppm-core) or pbrt-v4's equal-area octahedral square (`equal_area.rs`).
+#[derive(Deserialize, Clone, Copy, Debug, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum MapMapping {
+    Latlong,
+    EqualArea,
 }
 
 /// A rotation by `angle` degrees about `axis` (right-handed: counter-clockwise looking down

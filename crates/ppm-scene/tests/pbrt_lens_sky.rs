@@ -161,3 +161,126 @@ fn a_diffuse_sphere_under_a_constant_sky_reflects_a_l() {
         "{mean} vs a L = {want}"
     );
 }
+
+/// Writes an 8 x 8 equal-area map into a fresh folder and returns the folder: radiance 0.1
+/// everywhere but near the light-space directions +z (the square's centre: 2 x 2 texels of
+/// A), +x (the right edge's middle: C), +y (the bottom edge's middle: D) and -z (the four
+/// corners: B). Each marks two texels across the line the direction lies on, so that a
+/// rounding of the rotation cannot move it out.
+fn write_equal_area_sky(tag: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("ppm_equal_area_{tag}_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let texel = |x: usize, y: usize| -> (f32, f32, f32) {
+        match (x, y) {
+            (3..=4, 3..=4) => (1.0, 2.0, 3.0), // A: +z
+            (7, 3..=4) => (4.0, 0.0, 0.0),     // C: +x
+            (3..=4, 7) => (0.0, 5.0, 0.0),     // D: +y
+            (0 | 7, 0 | 7) => (0.0, 0.0, 6.0), // B: -z
+            _ => (0.1, 0.1, 0.1),
+        }
+    };
+    exr::prelude::write_rgb_file(dir.join("sky.exr"), 8, 8, texel).unwrap();
+    dir
+}
+
+/// pbrt-v4's image `infinite` light: an equal-area octahedral map (the square's centre is
+/// light-space +z, its right edge +x, its bottom edge +y, its corners -z), turned into the
+/// world by the light's transform; the common `Rotate -90 1 0 0` makes its +z the world's
+/// +y. The same file as a YAML environment with `mapping: equal_area` and the same rotation
+/// is the same light.
+#[test]
+fn an_image_infinite_light_reads_pbrts_equal_area_frame() {
+    let dir = write_equal_area_sky("frame");
+    let text = sky_scene("\"string filename\" \"sky.exr\" \"float scale\" 2")
+        .replace(
+            "LightSource",
+            "AttributeBegin\nRotate -90 1 0 0\nLightSource",
+        )
+        .replace("Material", "AttributeEnd\nMaterial");
+    let (b, warnings) = parse_pbrt(&text, &dir.join("scene.pbrt")).unwrap();
+    assert!(warnings.is_empty(), "{warnings:?}");
+    let le = |d: Vec3| b.lights[0].le_infinite(d.normalize());
+    // Rotate -90 about x: light +z -> world +y, +y -> -z, -z -> -y, +x stays.
+    assert_eq!(le(Vec3::Y), Vec3::new(2.0, 4.0, 6.0));
+    assert_eq!(le(Vec3::X), Vec3::new(8.0, 0.0, 0.0));
+    assert_eq!(le(Vec3::NEG_Z), Vec3::new(0.0, 10.0, 0.0));
+    assert_eq!(le(Vec3::NEG_Y), Vec3::new(0.0, 0.0, 12.0));
+    assert_eq!(le(Vec3::new(-1.0, 0.3, 0.2)), Vec3::splat(0.2));
+    let yaml = "camera: { position: [0, 0, 5], look_at: [0, 0, 0], up: [0, 1, 0], fov: 20 }
+materials:
+  white: { type: diffuse, color: [0.5, 0.5, 0.5] }
+objects:
+  - { type: sphere, center: [0, 0, 0], radius: 1, material: white }
+lights:
+  - { type: environment, file: sky.exr, mapping: equal_area, scale: 2, rotate: { axis: [1, 0, 0], angle: -90 } }
+";
+    let (y, _) = parse_scene(yaml, &dir.join("sky.yml")).unwrap();
+    for k in 0..200 {
+        let u = Vec2::new((k as f32 * 0.618034) % 1.0, (k as f32 + 0.5) / 200.0);
+        let d = ppm_core::sampling::uniform_sphere(u);
+        assert_eq!(
+            b.lights[0].le_infinite(d),
+            y.lights[0].le_infinite(d),
+            "{d}"
+        );
+    }
+    // `mapping` without a file, and a map that is not square, are errors naming them.
+    let no_file = yaml.replace("file: sky.exr,", "color: [1, 1, 1],");
+    let e = parse_scene(&no_file, &dir.join("sky.yml"))
+        .err()
+        .unwrap()
+        .to_string();
+    assert!(e.contains("mapping"), "{e}");
+    exr::prelude::write_rgb_file(dir.join("wide.exr"), 8, 4, |_, _| (1.0f32, 1.0f32, 1.0f32))
+        .unwrap();
+    let wide = text.replace("sky.exr", "wide.exr");
+    let e = parse_pbrt(&wide, &dir.join("scene.pbrt"))
+        .err()
+        .unwrap()
+        .to_string();
+    assert!(e.contains("square") && e.contains("8x4"), "{e}");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// The furnace of `a_diffuse_sphere_under_a_constant_sky_reflects_a_l` with the sky as a
+/// constant equal-area image: the map's integral, sampling density and lookup together give
+/// L_o = a L on the sphere and L around it.
+#[test]
+fn a_diffuse_sphere_under_a_constant_equal_area_sky_reflects_a_l() {
+    let dir = std::env::temp_dir().join(format!("ppm_equal_area_furnace_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    exr::prelude::write_rgb_file(dir.join("sky.exr"), 6, 6, |_, _| (0.4f32, 0.8f32, 1.2f32))
+        .unwrap();
+    let (b, _) = parse_pbrt(
+        &sky_scene("\"string filename\" \"sky.exr\""),
+        &dir.join("scene.pbrt"),
+    )
+    .unwrap();
+    std::fs::remove_dir_all(&dir).ok();
+    let scene = b.build().unwrap();
+    let settings = RenderSettings {
+        seed: 3,
+        ..RenderSettings::for_algorithm(&scene, Algorithm::Path)
+    };
+    let mut r = Renderer::new(&scene, &settings);
+    for _ in 0..64 {
+        r.iterate(&scene);
+    }
+    let image = r.image();
+    let sky = Vec3::new(0.4, 0.8, 1.2);
+    for (x, y) in [(0, 0), (15, 0), (0, 15), (15, 15)] {
+        let c = image.get(x, y);
+        assert!((c - sky).abs().max_element() < 1e-5, "({x}, {y}): {c}");
+    }
+    let mut sum = Vec3::ZERO;
+    for y in 5..11 {
+        for x in 5..11 {
+            sum += image.get(x, y);
+        }
+    }
+    let (mean, want) = (sum / 36.0, 0.5 * sky);
+    assert!(
+        ((mean - want) / want).abs().max_element() < 0.02,
+        "{mean} vs {want}"
+    );
+}

@@ -270,14 +270,19 @@ fn area_lights_emit_their_l_or_their_power() {
     ));
     assert!(e.starts_with("scene.pbrt:7:1: AreaLightSource \"diffuse\": twosided area lights are not supported yet"), "{e}");
     let e = error(&scene(
-        "LightSource \"infinite\" \"string filename\" \"sky.exr\"",
+        "LightSource \"infinite\" \"string filename\" \"sky.exr\" \"float illuminance\" 2",
     ));
     assert!(
         e.starts_with(
-            "scene.pbrt:7:1: LightSource \"infinite\": filename \"sky.exr\": pbrt-v4's equal-area octahedral maps are not supported yet"
+            "scene.pbrt:7:1: LightSource \"infinite\": illuminance with an image map is not supported yet"
         ),
         "{e}"
     );
+    // A map that is not there is named.
+    let e = error(&scene(
+        "LightSource \"infinite\" \"string filename\" \"sky.exr\"",
+    ));
+    assert!(e.contains("filename \"") && e.contains("sky.exr"), "{e}");
     let e = error(&scene("LightSource \"goniometric\""));
     assert!(e.contains("light type not supported yet"), "{e}");
 }

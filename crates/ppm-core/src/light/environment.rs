@@ -1,6 +1,7 @@
 //! An environment light: radiance arriving from infinitely far in every direction, a constant
-//! colour or a lat-long image, L(w) = scale * map(R^-1 w) with R a rotation (the light's
-//! `to_world`) and w the unit direction toward the light (the direction a ray escaping the
+//! colour, a lat-long image or an equal-area octahedral one (pbrt-v4's), L(w) = scale *
+//! map(R^-1 w) with R a rotation or a reflection (the light's `to_world`; a reflection
+//! mirrors the sky, as an imported world mirror does) and w the unit direction toward the light (the direction a ray escaping the
 //! scene travels). pbrt-v4's `UniformInfiniteLight` and `ImageInfiniteLight` (Pharr et al.
 //! 2023, sec. 12.5), Mitsuba 3's `constant` and `envmap`, SmallVCM's `BackgroundLight`.
 //! Its kind is [`super::LightKind::Infinite`]: camera paths that leave the scene find it, and
@@ -8,8 +9,8 @@
 //!
 //! # Next-event estimation
 //! A direction wi by the map's distribution ([`LatLongMap::sample`]: luminance * sin theta per
-//! texel, p(w) = p(u, v) / (2 pi^2 sin theta)); a constant map uniformly over the sphere,
-//! p(w) = 1 / (4 pi). The incident radiance is L(wi); the shadow ray ends beyond the scene's
+//! texel, p(w) = p(u, v) / (2 pi^2 sin theta); [`EqualAreaMap::sample`]: luminance per texel,
+//! p(w) = P_ij N^2 / (4 pi)); a constant map uniformly over the sphere, p(w) = 1 / (4 pi). The incident radiance is L(wi); the shadow ray ends beyond the scene's
 //! bounding sphere. [`EnvironmentLight::pdf_dir`] is the same density, for the MIS weight of
 //! an escaping camera path.
 //!
@@ -35,6 +36,7 @@
 
 use super::directional::bounding_sphere;
 use super::envmap::LatLongMap;
+use super::equal_area::EqualAreaMap;
 use super::{DirectSample, EmissionSample};
 use crate::sampling::{concentric_disc, uniform_sphere, Frame};
 use glam::{Mat3, Vec2, Vec3};
@@ -49,6 +51,8 @@ pub enum EnvironmentMap {
     Constant(Vec3),
     /// A lat-long image (see `envmap.rs` for the frame).
     Image(Arc<LatLongMap>),
+    /// An equal-area octahedral image, pbrt-v4's (see `equal_area.rs` for the frame).
+    EqualArea(Arc<EqualAreaMap>),
 }
 
 /// An environment light (see the module documentation).
@@ -57,7 +61,7 @@ pub struct EnvironmentLight {
     map: EnvironmentMap,
     /// Multiplies the map's radiance.
     scale: f32,
-    /// Rotation from the map's frame to the world (orthonormal).
+    /// Rotation (or reflection) from the map's frame to the world (orthonormal).
     to_world: Mat3,
     /// Centre and radius of the scene's bounding sphere (radius 0 before `preprocess`).
     center: Vec3,
@@ -66,11 +70,12 @@ pub struct EnvironmentLight {
 
 impl EnvironmentLight {
     /// A light radiating `scale` * `map`, rotated by `to_world` (the map's frame to the
-    /// world). `None` unless the scale is finite and non-negative and `to_world` is a
-    /// rotation (orthonormal, determinant 1, to 1e-3).
+    /// world). `None` unless the scale is finite and non-negative and `to_world` is
+    /// orthonormal to 1e-3 (a rotation, or a rotation and a mirror: directions and solid
+    /// angles are kept either way).
     pub fn new(map: EnvironmentMap, scale: f32, to_world: Mat3) -> Option<Self> {
         let orthonormal = (to_world.transpose() * to_world).abs_diff_eq(Mat3::IDENTITY, 1e-3)
-            && (to_world.determinant() - 1.0).abs() < 1e-3;
+            && (to_world.determinant().abs() - 1.0).abs() < 1e-3;
         if !(scale.is_finite() && scale >= 0.0 && orthonormal) {
             return None;
         }
@@ -120,6 +125,7 @@ impl EnvironmentLight {
             * match &self.map {
                 EnvironmentMap::Constant(c) => *c * (4.0 * PI),
                 EnvironmentMap::Image(m) => m.integral(),
+                EnvironmentMap::EqualArea(m) => m.integral(),
             }
     }
 
@@ -147,17 +153,19 @@ impl EnvironmentLight {
         match &self.map {
             EnvironmentMap::Constant(c) => *c * self.scale,
             EnvironmentMap::Image(m) => m.eval(self.to_world.transpose() * wi) * self.scale,
+            EnvironmentMap::EqualArea(m) => m.eval(self.to_world.transpose() * wi) * self.scale,
         }
     }
 
     /// The solid-angle density with which [`EnvironmentLight::sample_dir`] produces `wi`:
-    /// 1 / (4 pi) for a constant map, p(u, v) / (2 pi^2 sin theta) for an image (the
-    /// rotation preserves solid angle).
+    /// 1 / (4 pi) for a constant map, p(u, v) / (2 pi^2 sin theta) for a lat-long image,
+    /// P_ij N^2 / (4 pi) for an equal-area one (the rotation preserves solid angle).
     #[inline]
     pub fn pdf_dir(&self, wi: Vec3) -> f32 {
         match &self.map {
             EnvironmentMap::Constant(_) => 1.0 / (4.0 * PI),
             EnvironmentMap::Image(m) => m.pdf(self.to_world.transpose() * wi),
+            EnvironmentMap::EqualArea(m) => m.pdf(self.to_world.transpose() * wi),
         }
     }
 
@@ -166,9 +174,14 @@ impl EnvironmentLight {
     fn sample_dir(&self, u: Vec2) -> Option<(Vec3, f32)> {
         match &self.map {
             EnvironmentMap::Constant(_) => Some((uniform_sphere(u), 1.0 / (4.0 * PI))),
+            // The density is evaluated again from the world direction, so that a sample's
+            // pdf is `pdf_dir` of its direction bit for bit (MIS weights compare them).
             EnvironmentMap::Image(m) => {
-                // The density is evaluated again from the world direction, so that a sample's
-                // pdf is `pdf_dir` of its direction bit for bit (MIS weights compare them).
+                let (w, _) = m.sample(u)?;
+                let wi = (self.to_world * w).normalize();
+                Some((wi, self.pdf_dir(wi)))
+            }
+            EnvironmentMap::EqualArea(m) => {
                 let (w, _) = m.sample(u)?;
                 let wi = (self.to_world * w).normalize();
                 Some((wi, self.pdf_dir(wi)))

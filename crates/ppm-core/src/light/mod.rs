@@ -41,6 +41,7 @@ mod area;
 mod directional;
 mod environment;
 mod envmap;
+mod equal_area;
 mod point;
 mod sphere;
 mod spot;
@@ -49,6 +50,7 @@ mod triangle;
 pub use directional::DirectionalLight;
 pub use environment::{EnvironmentLight, EnvironmentMap};
 pub use envmap::{direction_to_uv, uv_to_direction, LatLongMap, MapError};
+pub use equal_area::{sphere_to_square, square_to_sphere, EqualAreaMap};
 pub use point::PointLight;
 pub use sphere::SphereLight;
 pub use spot::SpotLight;
@@ -294,6 +296,10 @@ impl Light {
                 (EnvironmentMap::Image(m), scale, _) => {
                     let (w, h) = m.size();
                     format!("{w}x{h} radiance map, scale {scale}")
+                }
+                (EnvironmentMap::EqualArea(m), scale, _) => {
+                    let n = m.size();
+                    format!("{n}x{n} equal-area radiance map, scale {scale}")
                 }
             },
         }

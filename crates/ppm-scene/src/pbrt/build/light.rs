@@ -1,4 +1,4 @@
-//! `LightSource` (point, spot, distant, infinite with a constant `L`) and `AreaLightSource "diffuse"` to ppm's lights and
+//! `LightSource` (point, spot, distant, infinite with a constant `L` or an equal-area image) and `AreaLightSource "diffuse"` to ppm's lights and
 //! emission. Colours follow pbrt-v4's photometric normalisation (`spectrum.rs`): an `rgb`
 //! emission renders as that RGB, times `scale`; `power` (point, spot, area) and
 //! `illuminance` (distant) rescale as pbrt-v4's `*Light::Create` do, by the normalised
@@ -6,13 +6,16 @@
 //! pbrt-v4).
 
 use super::super::params::ParamSet;
+use super::super::parse::resolve;
 use super::super::scene::{Entity, LightEntity};
 use super::super::spectrum;
 use crate::LoadError;
-use glam::{DMat4, DVec3};
+use glam::{DMat3, DMat4, DVec3};
 use ppm_core::light::{EnvironmentLight, EnvironmentMap, Light, PointLight};
 use ppm_core::scene::SceneBuilder;
 use std::f64::consts::PI;
+use std::path::Path;
+use std::sync::Arc;
 
 /// The emission `name` of a light (default: the colour space's white, sRGB (1, 1, 1)),
 /// times `scale`.
@@ -52,10 +55,12 @@ fn place(p: &ParamSet, m: DMat4, name: &str, default: DVec3) -> Result<DVec3, Lo
     Ok(x)
 }
 
-/// Adds one `LightSource`; `mirror` is the world mirror of `camera.rs`.
+/// Adds one `LightSource`; `mirror` is the world mirror of `camera.rs`; image files are
+/// looked up beside the file that names them, else in `main_folder`.
 pub fn add_light(
     light: &LightEntity,
     mirror: DMat4,
+    main_folder: &Path,
     builder: &mut SceneBuilder,
 ) -> Result<(), LoadError> {
     let e = &light.entity;
@@ -128,12 +133,50 @@ pub fn add_light(
         // (`UniformInfiniteLight`, `Light::Create`) rescales it by E / k_e for an
         // `illuminance` E, with k_e = pi the irradiance unit radiance gives an upward
         // surface (the integral of cos theta over the hemisphere).
-        "infinite" => {
-            if let Some(name) = p.string_opt("filename")? {
-                return Err(p.error(format!(
-                    "filename \"{name}\": pbrt-v4's equal-area octahedral maps are not supported yet (ppm's environment maps are lat-long; only a constant L is)"
-                )));
+        //
+        // With a `filename`: pbrt-v4's `ImageInfiniteLight`, an equal-area octahedral image
+        // (`equal_area.rs` in ppm-core) whose texels are RGB radiance times `scale`, looked
+        // up by the light-space direction toward the light (the light's transform, with the
+        // world mirror, turns it into the world).
+        "infinite" if p.has("filename") => {
+            let name = p.string_opt("filename")?.unwrap_or_default();
+            if p.has("L") {
+                return Err(p.error("L and filename together: pbrt-v4 takes one or the other"));
             }
+            if p.has("portal") {
+                p.get("portal");
+                return Err(p.error("portal is not supported yet"));
+            }
+            if p.has("illuminance") {
+                p.get("illuminance");
+                return Err(
+                    p.error("illuminance with an image map is not supported yet (scale is)")
+                );
+            }
+            let scale = p.float("scale", 1.0)?;
+            if !(scale >= 0.0 && scale.is_finite()) {
+                return Err(p.error(format!("scale {scale} is negative")));
+            }
+            let path = resolve(&name, &e.loc, main_folder);
+            p.finish()?;
+            let map = crate::radiance_map::read_equal_area_map(&path)
+                .map_err(|why| p.error(format!("filename \"{}\": {why}", path.display())))?;
+            let to_world = DMat3::from_mat4(m);
+            let orthonormal = (to_world.transpose() * to_world).abs_diff_eq(DMat3::IDENTITY, 1e-6);
+            if !orthonormal {
+                return Err(p.error(
+                    "the light's transform scales or shears: an environment can only be turned (or mirrored)",
+                ));
+            }
+            let light = EnvironmentLight::new(
+                EnvironmentMap::EqualArea(Arc::new(map)),
+                scale as f32,
+                to_world.as_mat3(),
+            )
+            .ok_or_else(|| p.error("not a valid environment light"))?;
+            builder.add_light(Light::Environment(light));
+        }
+        "infinite" => {
             if p.has("portal") {
                 p.get("portal");
                 return Err(p.error("portal is not supported yet"));

@@ -97,7 +97,7 @@ pub fn build(desc: &Description, warnings: &mut Vec<String>) -> Result<SceneBuil
         }
     }
     for l in &desc.lights {
-        light::add_light(l, mirror, &mut builder)?;
+        light::add_light(l, mirror, &desc.main_folder, &mut builder)?;
     }
     // Materials no shape uses are still checked, as pbrt-v4 creates them all.
     for (i, m) in desc.materials.iter().enumerate() {
