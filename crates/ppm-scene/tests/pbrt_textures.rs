@@ -136,7 +136,7 @@ fn what_cannot_carry_a_texture_is_an_error() {
         (
             "\"checkerboard\"",
             "Shape \"sphere\"",
-            "only a trianglemesh with \"point2 uv\"",
+            "this shape has no uv",
         ),
         (
             "\"checkerboard\" \"integer dimension\" 3",
@@ -204,4 +204,59 @@ fn an_imagemap_stands_upright_on_a_uv_quad() {
         assert_eq!(albedo(Vec2::new(small_x, bottom)), BLUE, "`{transform}`");
         assert_eq!(albedo(Vec2::new(large_x, bottom)), WHITE, "`{transform}`");
     }
+}
+
+/// A bilinear patch with `uv` and a PLY mesh with u, v carry a texture: the uv arrive per
+/// vertex as given (pbrt's conventions then apply in the lookup). A patch whose uv is not
+/// affine is named in a warning (two triangles interpolate it linearly, pbrt bilinearly).
+#[test]
+fn bilinear_patches_and_ply_meshes_carry_their_uv() {
+    let d = dir("uv_shapes");
+    let checker = "\"checkerboard\"";
+    let patch = "Shape \"bilinearmesh\" \"point3 P\" [0 0 0  1 0 0  0 1 0  1 1 0] \
+                 \"integer indices\" [0 1 2 3] \"point2 uv\" [0 0  2 0  0 2  2 2]";
+    let (b, warnings) = load(&d, &scene(checker, patch)).unwrap();
+    assert!(warnings.is_empty(), "{warnings:?}");
+    let uvs = &b.meshes[0].uvs;
+    assert_eq!(
+        uvs,
+        &[0.0, 0.0, 2.0, 0.0, 0.0, 2.0, 2.0, 2.0]
+            .chunks(2)
+            .map(|c| Vec2::new(c[0], c[1]))
+            .collect::<Vec<_>>()
+    );
+    let warped = patch.replace("[0 0  2 0  0 2  2 2]", "[0 0  2 0  0 2  3 3]");
+    let (_, warnings) = load(&d, &scene(checker, &warped)).unwrap();
+    assert!(
+        warnings.len() == 1 && warnings[0].contains("not affine"),
+        "{warnings:?}"
+    );
+    std::fs::write(
+        d.join("quad.ply"),
+        "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n\
+         property float z\nproperty float u\nproperty float v\nelement face 1\n\
+         property list uchar int vertex_indices\nend_header\n\
+         0 0 0 0 0\n1 0 0 0.5 0\n1 1 0 0.5 0.25\n0 1 0 0 0.25\n4 0 1 2 3\n",
+    )
+    .unwrap();
+    let ply = "Shape \"plymesh\" \"string filename\" \"quad.ply\"";
+    let (b, warnings) = load(&d, &scene(checker, ply)).unwrap();
+    assert!(warnings.is_empty(), "{warnings:?}");
+    assert_eq!(b.meshes[0].uvs[2], Vec2::new(0.5, 0.25));
+    // Without uv in the file, the texture has nothing to read: an error naming the shape.
+    std::fs::write(
+        d.join("bare.ply"),
+        "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n\
+         property float z\nelement face 1\nproperty list uchar int vertex_indices\n\
+         end_header\n0 0 0\n1 0 0\n1 1 0\n3 0 1 2\n",
+    )
+    .unwrap();
+    let e = load(&d, &scene(checker, &ply.replace("quad", "bare")))
+        .err()
+        .unwrap()
+        .to_string();
+    assert!(
+        e.contains("Shape \"plymesh\"") && e.contains("no uv"),
+        "{e}"
+    );
 }

@@ -56,7 +56,7 @@ pub fn build(desc: &Description, warnings: &mut Vec<String>) -> Result<SceneBuil
         };
         if !textures.is_empty() && !has_uv {
             return Err(s.entity.loc.error(format!(
-                "Shape \"{}\": its material has a texture, and only a trianglemesh with \"point2 uv\" gives ppm pbrt's uv (not supported yet on other shapes)",
+                "Shape \"{}\": its material has a texture, and this shape has no uv: a trianglemesh or bilinearmesh with \"point2 uv\", or a plymesh whose file has uv, gives ppm pbrt's uv (pbrt's default uv of meshes and the uv of spheres, disks and cylinders are not supported yet)",
                 s.entity.kind
             )));
         }

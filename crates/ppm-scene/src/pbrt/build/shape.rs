@@ -55,6 +55,7 @@ pub fn geometry(
         }
     }
     p.ignore(&["emissionfilename"]);
+    let mut ply_uvs = Vec::new();
     let (positions, normals, indices) = match e.kind.as_str() {
         "sphere" => {
             let s = sphere(&p, to_world, shape.reverse_orientation)?;
@@ -63,15 +64,25 @@ pub fn geometry(
         }
         "trianglemesh" => triangle_mesh(&p)?,
         "bilinearmesh" => bilinear_mesh(&p, warnings)?,
-        "plymesh" => ply_mesh(&p, main_folder, cache)?,
+        "plymesh" => {
+            let (parts, uvs) = ply_mesh(&p, main_folder, cache)?;
+            ply_uvs = uvs;
+            parts
+        }
         "disk" => disk(&p)?,
         "cylinder" => cylinder(&p)?,
         _ => return Err(p.error("shape type not supported yet (trianglemesh, plymesh, bilinearmesh, sphere, disk and cylinder are)")),
     };
-    // A trianglemesh's per-vertex `uv` (checked by `vertices`) is kept as given; textures
-    // apply pbrt's conventions on top (`texture.rs`).
+    // Per-vertex uv of a trianglemesh or bilinearmesh (checked by `vertices`) or a PLY file
+    // is kept as given; textures apply pbrt's conventions on top (`texture.rs`).
     let uvs = match e.kind.as_str() {
-        "trianglemesh" => p.point2s("uv")?.unwrap_or_default(),
+        "trianglemesh" | "bilinearmesh" => p
+            .point2s("uv")?
+            .unwrap_or_default()
+            .iter()
+            .map(|uv| uv.as_vec2())
+            .collect(),
+        "plymesh" => ply_uvs,
         _ => Vec::new(),
     };
     p.finish()?;
@@ -83,7 +94,7 @@ pub fn geometry(
         shape.reverse_orientation,
         &p,
     )?;
-    mesh.uvs = uvs.iter().map(|uv| uv.as_vec2()).collect();
+    mesh.uvs = uvs;
     Ok(Geometry::Mesh(mesh))
 }
 
@@ -157,7 +168,8 @@ fn bilinear_mesh(p: &ParamSet, warnings: &mut Vec<String>) -> Result<Parts, Load
     let (positions, normals) = vertices(p)?;
     let patches = grouped_indices(p, positions.len(), 4)?;
     let mut indices = Vec::with_capacity(2 * patches.len());
-    let mut curved = 0;
+    let uv = p.point2s("uv")?.unwrap_or_default();
+    let (mut curved, mut warped) = (0, 0);
     for q in &patches {
         let [a, b, c, d] = [q[0], q[1], q[2], q[3]];
         let v = |i: u32| positions[i as usize];
@@ -165,6 +177,15 @@ fn bilinear_mesh(p: &ParamSet, warnings: &mut Vec<String>) -> Result<Parts, Load
         let off = n.normalize_or_zero().dot(v(d) - v(a)).abs();
         if off > 1e-6 * (v(d) - v(a)).length().max(f64::MIN_POSITIVE) {
             curved += 1;
+        }
+        // pbrt interpolates uv bilinearly over the patch, the two triangles linearly: the
+        // same when uv is affine in the patch, uv00 + uv11 = uv10 + uv01.
+        if !uv.is_empty() {
+            let t = |i: u32| uv[i as usize];
+            let skew = (t(a) + t(d)) - (t(b) + t(c));
+            if skew.length() > 1e-6 * (t(d) - t(a)).length().max(f64::MIN_POSITIVE) {
+                warped += 1;
+            }
         }
         indices.push([a, b, d]);
         indices.push([a, d, c]);
@@ -177,11 +198,24 @@ fn bilinear_mesh(p: &ParamSet, warnings: &mut Vec<String>) -> Result<Parts, Load
             patches.len()
         ));
     }
+    if warped > 0 {
+        warnings.push(format!(
+            "{}: {}: the uv of {warped} of {} bilinear patches is not affine; each triangle interpolates it linearly, pbrt bilinearly",
+            p.loc,
+            p.what,
+            patches.len()
+        ));
+    }
     Ok((positions, normals, indices))
 }
 
-/// `plymesh`: see `ply.rs` (polygons as fans). Displacement is not supported.
-fn ply_mesh(p: &ParamSet, main_folder: &Path, cache: &mut PlyCache) -> Result<Parts, LoadError> {
+/// `plymesh`: see `ply.rs` (polygons as fans), with the file's uv if it has them.
+/// Displacement is not supported.
+fn ply_mesh(
+    p: &ParamSet,
+    main_folder: &Path,
+    cache: &mut PlyCache,
+) -> Result<(Parts, Vec<glam::Vec2>), LoadError> {
     let name = p
         .string_opt("filename")?
         .ok_or_else(|| p.error("needs \"string filename\""))?;
@@ -200,9 +234,12 @@ fn ply_mesh(p: &ParamSet, main_folder: &Path, cache: &mut PlyCache) -> Result<Pa
         }
     };
     Ok((
-        data.positions.iter().map(|x| x.as_dvec3()).collect(),
-        data.normals.iter().map(|x| x.as_dvec3()).collect(),
-        data.indices.clone(),
+        (
+            data.positions.iter().map(|x| x.as_dvec3()).collect(),
+            data.normals.iter().map(|x| x.as_dvec3()).collect(),
+            data.indices.clone(),
+        ),
+        data.uvs.clone(),
     ))
 }
 
