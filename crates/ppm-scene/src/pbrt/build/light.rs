@@ -157,7 +157,7 @@ pub fn add_light(
             if !(scale >= 0.0 && scale.is_finite()) {
                 return Err(p.error(format!("scale {scale} is negative")));
             }
-            let path = resolve(&name, &e.loc, main_folder);
+            let path = resolve(name, &e.loc, main_folder);
             p.finish()?;
             let map = crate::radiance_map::read_equal_area_map(&path)
                 .map_err(|why| p.error(format!("filename \"{}\": {why}", path.display())))?;
