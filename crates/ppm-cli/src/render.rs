@@ -155,6 +155,7 @@ pub fn run(args: &RenderArgs, interrupt: &Interrupt) -> Result<Outcome> {
     let settings = setup::render_settings(&scene, algorithm, &args.settings);
     setup::warn_unread_flags(&args.settings, &[algorithm]);
     setup::warn_missing_light(&scene, algorithm, &scene_path);
+    setup::check_radius(&scene, &settings, &args.settings, &scene_path)?;
     memory::check(&scene, &settings)?;
     let camera = &scene.camera;
     let bounds = crate::crop::pixel_bounds(
@@ -378,7 +379,14 @@ pub fn run(args: &RenderArgs, interrupt: &Interrupt) -> Result<Outcome> {
             settings.seed
         );
     }
-    crate::black_image::warn_if_black(&image, &scene_path, &scene, &settings, &totals);
+    crate::black_image::warn_if_black(
+        &image,
+        &scene_path,
+        &scene,
+        &settings,
+        args.settings.radius.is_some(),
+        &totals,
+    );
     if let Some(last) = tracker.as_ref().and_then(|t| t.samples.last()) {
         info!(
             "error against {}: relMSE {:.4e}, RMSE {:.4e}",
