@@ -264,12 +264,14 @@ pub fn run(args: &RenderArgs, interrupt: &Interrupt) -> Result<Outcome> {
                     )
                 );
             }
+            crate::oom::set_phase(crate::oom::Phase::Starting);
             let mut renderer = if !cropped {
                 Renderer::from_snapshot(&scene, &settings, start.snapshot)
                     .context("cannot continue the saved render")?
             } else {
                 Renderer::with_bounds(&settings, bounds)
             };
+            crate::oom::set_phase(crate::oom::Phase::Rendering);
             let progress = Progress::new(&stop, algorithm.name());
             let totals = render_loop(
                 &scene,
@@ -303,6 +305,7 @@ pub fn run(args: &RenderArgs, interrupt: &Interrupt) -> Result<Outcome> {
                 },
             );
             progress.finish();
+            crate::oom::set_phase(crate::oom::Phase::Writing);
             let totals = totals?;
             let aovs: Vec<_> = args
                 .aov
