@@ -8,7 +8,7 @@
 
 use crate::render_loop::LoopTotals;
 use ppm_core::film::Image;
-use ppm_core::integrator::{DirectMode, RenderSettings};
+use ppm_core::integrator::{DirectMode, Radius, RenderSettings, Setting};
 use ppm_core::scene::{Scene, SceneBuilder};
 use ppm_core::{Vec2, Vec3};
 use std::path::Path;
@@ -133,6 +133,29 @@ pub struct RenderFacts<'a> {
     /// second bounce).
     pub max_depth: u32,
     pub direct_sampled: bool,
+    /// The initial merge radius in scene units, where the algorithm reads one and it was
+    /// given as a number (not `auto`), and whether `--radius` gave it (else `render.radius`).
+    pub radius: Option<(f32, bool)>,
+}
+
+/// The total area of the scene's surfaces (triangles and spheres), in f64.
+fn surface_area(scene: &Scene) -> f64 {
+    let g = &scene.geometry;
+    let triangles = g.triangle_count();
+    let triangle_area: f64 = (0..triangles)
+        .map(|i| g.triangle(i as u32).0.area() as f64)
+        .sum();
+    let sphere_area: f64 = (0..g.sphere_count())
+        .map(|i| g.sphere((triangles + i) as u32).area() as f64)
+        .sum();
+    triangle_area + sphere_area
+}
+
+/// The photons one merge disc of radius `r` expects over a render that stored `photons`, were
+/// they spread evenly over the scene's surfaces (area `area`): photons pi r^2 / area. Below 1
+/// the radius, not the light, is why the gather points found nothing.
+fn photons_per_disc(photons: u64, r: f32, area: f64) -> f64 {
+    photons as f64 * std::f64::consts::PI * (r as f64).powi(2) / area.max(f64::MIN_POSITIVE)
 }
 
 /// Reasons why `image` is black or nearly so, one line each; empty when it is not black.
@@ -196,6 +219,10 @@ pub fn explain(image: &Image, facts: &RenderFacts<'_>) -> Vec<String> {
     if camera_sees_nothing(facts.scene) {
         lines.push("no camera ray hits any geometry: the camera looks away from the scene".into());
     }
+    if let Some(line) = starved_radius(facts) {
+        lines.push(line);
+        return lines;
+    }
     if facts.photon_mapping {
         if facts.photons == 0 && facts.direct_sampled && facts.max_depth < 2 {
             lines.push(format!(
@@ -222,6 +249,31 @@ pub fn explain(image: &Image, facts: &RenderFacts<'_>) -> Vec<String> {
     lines
 }
 
+/// The merge radius as the cause of a black image, if photons were stored but a disc of the
+/// initial radius expected fewer than one over the whole render: then the gather points found
+/// none because the radius is too small, not for want of light.
+fn starved_radius(facts: &RenderFacts<'_>) -> Option<String> {
+    let (r, flag) = facts.radius?;
+    if facts.photons == 0 {
+        return None;
+    }
+    let area = surface_area(facts.scene);
+    let expected = photons_per_disc(facts.photons, r, area);
+    if expected >= 1.0 {
+        return None;
+    }
+    // The radius at which a disc expects one photon over the render.
+    let one = (area / (std::f64::consts::PI * facts.photons as f64)).sqrt();
+    Some(format!(
+        "the merge radius {r:e} ({}) is too small for the scene: spread over its surface \
+         (area {area:.4}), the render's {} photons put {expected:.1e} in a disc of that radius, so \
+         the camera's points merged none (the lights are not at fault); a disc expects one \
+         photon at a radius of {one:.2e}: raise the radius, or use `auto`",
+        if flag { "--radius" } else { "render.radius" },
+        facts.photons
+    ))
+}
+
 /// Prints why `image` is black as warnings, if it is. The scene file is read again for the
 /// lights' names (only then: a black image is rare and reading is cheap next to rendering).
 pub fn warn_if_black(
@@ -229,6 +281,7 @@ pub fn warn_if_black(
     scene_path: &Path,
     scene: &Scene,
     settings: &RenderSettings,
+    radius_flag: bool,
     totals: &LoopTotals,
 ) {
     let mean = image.mean().max_element();
@@ -245,6 +298,10 @@ pub fn warn_if_black(
         photons: totals.photons,
         max_depth: settings.max_depth,
         direct_sampled: settings.direct == DirectMode::Sampled,
+        radius: match settings.radius {
+            Radius::World(r) if settings.algorithm.reads(Setting::Radius) => Some((r, radius_flag)),
+            _ => None,
+        },
     };
     for line in explain(image, &facts) {
         status!("warning: {line}");
@@ -305,6 +362,7 @@ mod tests {
             photons: 0,
             max_depth: 32,
             direct_sampled: true,
+            radius: None,
         };
         let mut image = Image {
             width: 8,

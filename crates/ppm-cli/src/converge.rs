@@ -197,6 +197,8 @@ pub fn run(args: &ConvergeArgs, interrupt: &Interrupt) -> Result<Outcome> {
     setup::warn_unread_flags(&args.settings, &algorithms);
     for &algorithm in &algorithms {
         setup::warn_missing_light(&scene, algorithm, &scene_path);
+        let settings = setup::render_settings(&scene, algorithm, &args.settings);
+        setup::check_radius(&scene, &settings, &args.settings, &scene_path)?;
     }
     let mut runs = Vec::new();
     let mut threads = 0;

@@ -17,8 +17,10 @@ mod guard;
 mod info;
 mod memory;
 mod merge;
+mod oom;
 mod output;
 mod plot;
+mod process_limits;
 mod progress;
 mod provenance;
 mod render;
@@ -39,6 +41,10 @@ use clap::Parser;
 use render::Outcome;
 use signal::{Interrupt, EXIT_INTERRUPTED};
 use std::process::ExitCode;
+
+/// A failed allocation is an error with exit status 1, never an abort (see [`oom`]).
+#[global_allocator]
+static ALLOCATOR: oom::ReportingAllocator = oom::ReportingAllocator;
 
 fn main() -> ExitCode {
     // Usage errors exit with status 2 (clap's convention, and ours for the usage errors

@@ -91,8 +91,15 @@ fn gib(bytes: u64) -> String {
     format!("{:.2} GiB", bytes as f64 / (1u64 << 30) as f64)
 }
 
-/// The memory a render may use: [`MEMORY_LIMIT_VAR`] if set, else MemAvailable from
-/// /proc/meminfo; `None` where neither exists.
+/// Virtual memory the render maps after the check besides its buffers, which RLIMIT_AS
+/// counts: the worker threads' stacks (2 MiB each in Rust) and the output step's encoders.
+/// 256 MiB covers 64 threads and leaves half for the rest.
+const LATER_MAPPINGS: u64 = 256 << 20;
+
+/// The memory a render may use: [`MEMORY_LIMIT_VAR`] if set, else the least of MemAvailable
+/// from /proc/meminfo and what is left under the process's own limits
+/// ([`crate::process_limits`]: `ulimit -v`, `ulimit -d`, a cgroup's memory limit); `None`
+/// where none of them is known.
 fn limit() -> Result<Option<Limit>> {
     if let Ok(value) = std::env::var(MEMORY_LIMIT_VAR) {
         let bytes = parse_bytes(&value).with_context(|| {
@@ -104,14 +111,31 @@ fn limit() -> Result<Option<Limit>> {
             whole_process: true,
         }));
     }
-    let Ok(meminfo) = std::fs::read_to_string("/proc/meminfo") else {
-        return Ok(None);
-    };
-    Ok(mem_available(&meminfo).map(|bytes| Limit {
-        bytes,
-        source: "MemAvailable in /proc/meminfo".to_string(),
-        whole_process: false,
-    }))
+    let free = std::fs::read_to_string("/proc/meminfo")
+        .ok()
+        .and_then(|meminfo| mem_available(&meminfo))
+        .map(|bytes| Limit {
+            bytes,
+            source: "MemAvailable in /proc/meminfo".to_string(),
+            whole_process: false,
+        });
+    let own = crate::process_limits::limits().into_iter().map(|l| {
+        let later = if l.source.starts_with("RLIMIT_AS") {
+            LATER_MAPPINGS
+        } else {
+            0
+        };
+        Limit {
+            bytes: l.left.saturating_sub(later),
+            source: if later > 0 {
+                format!("{}, less {} for thread stacks", l.source, gib(later))
+            } else {
+                l.source
+            },
+            whole_process: false,
+        }
+    });
+    Ok(free.into_iter().chain(own).min_by_key(|l| l.bytes))
 }
 
 /// MemAvailable (given in kB) from the text of /proc/meminfo, in bytes.

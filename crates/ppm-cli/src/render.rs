@@ -155,6 +155,7 @@ pub fn run(args: &RenderArgs, interrupt: &Interrupt) -> Result<Outcome> {
     let settings = setup::render_settings(&scene, algorithm, &args.settings);
     setup::warn_unread_flags(&args.settings, &[algorithm]);
     setup::warn_missing_light(&scene, algorithm, &scene_path);
+    setup::check_radius(&scene, &settings, &args.settings, &scene_path)?;
     memory::check(&scene, &settings)?;
     let camera = &scene.camera;
     let bounds = crate::crop::pixel_bounds(
@@ -263,12 +264,14 @@ pub fn run(args: &RenderArgs, interrupt: &Interrupt) -> Result<Outcome> {
                     )
                 );
             }
+            crate::oom::set_phase(crate::oom::Phase::Starting);
             let mut renderer = if !cropped {
                 Renderer::from_snapshot(&scene, &settings, start.snapshot)
                     .context("cannot continue the saved render")?
             } else {
                 Renderer::with_bounds(&settings, bounds)
             };
+            crate::oom::set_phase(crate::oom::Phase::Rendering);
             let progress = Progress::new(&stop, algorithm.name());
             let totals = render_loop(
                 &scene,
@@ -302,6 +305,7 @@ pub fn run(args: &RenderArgs, interrupt: &Interrupt) -> Result<Outcome> {
                 },
             );
             progress.finish();
+            crate::oom::set_phase(crate::oom::Phase::Writing);
             let totals = totals?;
             let aovs: Vec<_> = args
                 .aov
@@ -378,7 +382,14 @@ pub fn run(args: &RenderArgs, interrupt: &Interrupt) -> Result<Outcome> {
             settings.seed
         );
     }
-    crate::black_image::warn_if_black(&image, &scene_path, &scene, &settings, &totals);
+    crate::black_image::warn_if_black(
+        &image,
+        &scene_path,
+        &scene,
+        &settings,
+        args.settings.radius.is_some(),
+        &totals,
+    );
     if let Some(last) = tracker.as_ref().and_then(|t| t.samples.last()) {
         info!(
             "error against {}: relMSE {:.4e}, RMSE {:.4e}",

@@ -3,7 +3,9 @@
 
 use crate::args::SettingsArgs;
 use anyhow::{bail, Context, Result};
-use ppm_core::integrator::{bounded_depth, Algorithm, RenderSettings, Setting, MAX_DEPTH};
+use ppm_core::integrator::{
+    bounded_depth, smallest_radius, Algorithm, Radius, RenderSettings, Setting, MAX_DEPTH,
+};
 use ppm_core::scene::Scene;
 use std::path::{Path, PathBuf};
 
@@ -155,6 +157,50 @@ pub fn apply_overrides(settings: &mut RenderSettings, algorithm: Algorithm, args
         settings.light_strategy = v.into();
     }
     *settings = settings.normalised();
+}
+
+/// Refuses an initial merge radius below [`smallest_radius`] for the scene (the disc area
+/// underflows in f32, or the disc is finer than f32 resolves positions at the scene's extent):
+/// such a render finds no photon and comes out black or without its indirect light. A
+/// `--radius` is a usage error (exit 2); the scene's `render.radius` an error naming it.
+pub fn check_radius(
+    scene: &Scene,
+    settings: &RenderSettings,
+    args: &SettingsArgs,
+    scene_path: &Path,
+) -> Result<()> {
+    let Radius::World(r) = settings.radius else {
+        return Ok(());
+    };
+    if !settings.algorithm.reads(Setting::Radius) {
+        return Ok(());
+    }
+    let diagonal = scene.diagonal();
+    let smallest = smallest_radius(diagonal);
+    if r >= smallest {
+        return Ok(());
+    }
+    let why = if smallest > smallest_radius(0.0) {
+        format!(
+            "2^-24 of the scene's extent {diagonal}: single precision resolves positions \
+             only to about that, so a smaller merge disc finds no photon"
+        )
+    } else {
+        "below it the merge disc's area pi r^2 underflows in single precision".to_string()
+    };
+    let fix = "raise it, or use `auto` (a few pixel footprints)";
+    if args.radius.is_some() {
+        usage_bail!(
+            "--radius {r:e} is too small for {}: the smallest merge radius is {smallest:.3e} \
+             ({why}); {fix}",
+            scene_path.display()
+        );
+    }
+    bail!(
+        "{}: render.radius {r:e} is too small: the smallest merge radius is {smallest:.3e} \
+         ({why}); {fix}, or override it with --radius",
+        scene_path.display()
+    )
 }
 
 /// The flag that sets `setting`, and whether the command line gave it.

@@ -312,3 +312,143 @@ fn a_huge_thread_count_is_capped_with_a_warning() {
         read_exr(&dir.path().join("one.exr")).2
     );
 }
+
+/// [`TINY_SCENE`] with its lamp's emission set to `emission` (all three channels).
+fn tiny_scene_emitting(dir: &Path, name: &str, emission: &str) {
+    let text = TINY_SCENE.replace(
+        "emission: [8.0, 8.0, 8.0]",
+        &format!("emission: [{emission}, {emission}, {emission}]"),
+    );
+    assert_ne!(text, TINY_SCENE);
+    std::fs::write(dir.join(name), text).unwrap();
+}
+
+/// The accepted emission and the film's exact range agree: a lamp at the top of the range
+/// (2^40) renders with no sample dropped by any algorithm, and its image is the emission-1
+/// image times 2^40 (a power of two: every f32 product scales exactly); just above, the
+/// scene is refused naming the field and the limit.
+#[test]
+fn emission_at_the_top_of_the_accepted_range_loses_no_sample() {
+    let dir = tempfile::tempdir().unwrap();
+    let top = (1u64 << 40) as f32;
+    tiny_scene_emitting(dir.path(), "one.yml", "1.0");
+    tiny_scene_emitting(dir.path(), "top.yml", "1099511627776");
+    for algorithm in ["pt", "ppm", "sppm", "vcm"] {
+        let render = |scene: &str| {
+            let out = format!("{scene}-{algorithm}.exr");
+            let output = run(
+                dir.path(),
+                &[scene, "-a", algorithm, "-n", "2", "--seed", "3", "-o", &out],
+            );
+            assert_ok(&output);
+            let err = stderr(&output);
+            assert!(
+                err.contains(" 0 rejected samples"),
+                "{algorithm} {scene}: {err}"
+            );
+            read_exr(&dir.path().join(out)).2
+        };
+        let (one, hot) = (render("one.yml"), render("top.yml"));
+        assert!(one.iter().any(|p| p[0] > 0.0), "{algorithm}: black");
+        for (a, b) in one.iter().flatten().zip(hot.iter().flatten()) {
+            let expected = a * top;
+            assert!(
+                (b - expected).abs() <= 1e-5 * expected + 1e-30,
+                "{algorithm}: {b:e} against {expected:e}"
+            );
+        }
+    }
+    tiny_scene_emitting(dir.path(), "above.yml", "1.2e12");
+    let err = assert_fails(&run(dir.path(), &["above.yml", "-n", "1"]), 1);
+    assert!(
+        err.contains("material `light`")
+            && err.contains("`emission` 1.200e12")
+            && err.contains("2^40")
+            && err.contains("2^56"),
+        "{err}"
+    );
+}
+
+/// A merge radius below what single precision resolves at the scene's scale is refused up
+/// front naming `--radius` (or the scene's `render.radius`) by every algorithm that reads
+/// one; the smallest accepted radius renders.
+#[test]
+fn a_merge_radius_too_small_for_the_scene_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    tiny_scene(dir.path());
+    for algorithm in ["ppm", "sppm", "vcm"] {
+        // 1e-25: pi r^2 underflows f32; 1e-9: finer than f32 resolves a 3.5-unit scene.
+        for radius in ["1e-25", "1e-9"] {
+            let output = run(
+                dir.path(),
+                &["tiny.yml", "-a", algorithm, "--radius", radius, "-n", "1"],
+            );
+            let err = assert_fails(&output, 2);
+            assert!(
+                err.contains(&format!("--radius {radius} is too small for tiny.yml"))
+                    && err.contains("the smallest merge radius is 2.06")
+                    && err.contains("2^-24 of the scene's extent 3.46"),
+                "{algorithm} {radius}: {err}"
+            );
+        }
+        let output = run(
+            dir.path(),
+            &["tiny.yml", "-a", algorithm, "--radius", "2.1e-7", "-n", "1"],
+        );
+        assert_ok(&output);
+    }
+    // Set in the scene file: an error naming render.radius; --radius overrides it.
+    let text = TINY_SCENE.replace("radius: 0.1", "radius: 1e-25");
+    std::fs::write(dir.path().join("small.yml"), text).unwrap();
+    let err = assert_fails(&run(dir.path(), &["small.yml", "-a", "ppm", "-n", "1"]), 1);
+    assert!(
+        err.contains("small.yml: render.radius 1e-25 is too small") && err.contains("--radius"),
+        "{err}"
+    );
+    assert_ok(&run(
+        dir.path(),
+        &["small.yml", "-a", "ppm", "--radius", "0.1", "-n", "1"],
+    ));
+}
+
+/// A black image from a merge radius that is accepted but far too small for the photons
+/// (direct light from photons, the lamp out of view) is blamed on the radius, with the
+/// radius at which a disc would expect one photon, not on the lights.
+#[test]
+fn a_black_image_from_a_tiny_radius_names_the_radius() {
+    let dir = tempfile::tempdir().unwrap();
+    // The floor and ceiling of the tiny box seen from above: the lamp is out of view.
+    let scene = TINY_SCENE
+        .replace(
+            "position: [0.0, 1.0, 3.9], look_at: [0.0, 1.0, 0.0]",
+            "position: [0.0, 1.5, 0.5], look_at: [0.0, 0.0, 0.0]",
+        )
+        .replace("fov: 38.0", "fov: 30.0");
+    std::fs::write(dir.path().join("floor.yml"), scene).unwrap();
+    for algorithm in ["ppm", "sppm"] {
+        let args = [
+            "floor.yml",
+            "-a",
+            algorithm,
+            "--direct",
+            "photons",
+            "-n",
+            "2",
+        ];
+        let tiny = run(dir.path(), &[&args[..], &["--radius", "1e-6"]].concat());
+        assert_ok(&tiny);
+        let err = stderr(&tiny);
+        assert!(
+            err.contains("the image is black")
+                && err.contains("the merge radius 1e-6 (--radius) is too small for the scene")
+                && err.contains("a disc expects one photon at a radius of")
+                && !err.contains("reached a light")
+                && !err.contains("emits away"),
+            "{algorithm}: {err}"
+        );
+        // The same render at the scene's radius is lit, and not diagnosed.
+        let lit = run(dir.path(), &args);
+        assert_ok(&lit);
+        assert!(!stderr(&lit).contains("black"), "{}", stderr(&lit));
+    }
+}

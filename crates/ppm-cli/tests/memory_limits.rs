@@ -94,3 +94,80 @@ fn the_memory_estimate_covers_the_measured_peak() {
         }
     }
 }
+
+/// `ppm args...` in `dir` under the shell's `ulimit -v kib` (the process's virtual-size
+/// limit, RLIMIT_AS, in KiB), with the extra environment `env`.
+fn run_under_ulimit(dir: &Path, kib: u64, args: &[&str], env: &[(&str, &str)]) -> Output {
+    std::process::Command::new("sh")
+        .arg("-c")
+        .arg(format!("ulimit -v {kib} && exec \"$0\" \"$@\""))
+        .arg(env!("CARGO_BIN_EXE_ppm"))
+        .args(args)
+        .env_remove("PPM_MEMORY_LIMIT")
+        .envs(env.iter().copied())
+        .current_dir(dir)
+        .output()
+        .unwrap()
+}
+
+/// The process's own limits are part of the memory check, and an allocation that fails
+/// anyway is an error, never an abort: under `ulimit -v` a render that needs more is refused
+/// up front with the limit named, one that fits renders, and with the check overridden the
+/// failed allocation ends with status 1 naming the bytes, not SIGABRT. (Linux: the limit is
+/// compared with /proc/self/status.)
+#[test]
+fn a_virtual_memory_limit_is_respected_and_never_aborts() {
+    use std::os::unix::process::ExitStatusExt;
+    if !Path::new("/proc/self/status").exists() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    tiny_scene(dir.path());
+    let small = ["tiny.yml", "-n", "1", "-t", "2"];
+    // The baseline: the smallest of these limits a small render runs under (the binary's
+    // mappings, thread stacks and the check's reserve for them), doubled.
+    let baseline = [256u64, 512, 1024, 2048, 4096, 8192]
+        .into_iter()
+        .map(|mib| mib << 10)
+        .find(|&kib| {
+            run_under_ulimit(dir.path(), kib, &small, &[])
+                .status
+                .success()
+        })
+        .expect("a small render runs under an 8 GiB virtual-size limit");
+    let limit = 2 * baseline;
+    assert_ok(&run_under_ulimit(dir.path(), limit, &small, &[]));
+    // 10^8 light paths per iteration need tens of GiB of photon storage.
+    let big = ["tiny.yml", "-n", "1", "-t", "2", "--photons", "100000000"];
+    let refused = run_under_ulimit(dir.path(), limit, &big, &[]);
+    assert_eq!(refused.status.signal(), None, "{}", stderr(&refused));
+    let err = assert_fails(&refused, 1);
+    assert!(
+        err.contains("not enough memory") && err.contains("--photons"),
+        "{err}"
+    );
+    let available = std::fs::read_to_string("/proc/meminfo")
+        .ok()
+        .and_then(|m| {
+            let line = m
+                .lines()
+                .find(|l| l.starts_with("MemAvailable:"))?
+                .to_owned();
+            line.split_whitespace().nth(1)?.parse::<u64>().ok()
+        })
+        .unwrap_or(u64::MAX);
+    if available > limit {
+        assert!(err.contains("RLIMIT_AS (ulimit -v)"), "{err}");
+    }
+    // The check overridden: the allocation itself fails, and is an error with status 1.
+    let failed = run_under_ulimit(dir.path(), limit, &big, &[("PPM_MEMORY_LIMIT", "1T")]);
+    assert_eq!(failed.status.signal(), None, "{}", stderr(&failed));
+    let err = assert_fails(&failed, 1);
+    assert!(
+        err.contains("error: out of memory: allocating")
+            && err.contains("while allocating the render state (the film, the photon buffer")
+            && err.contains("ulimit -v (RLIMIT_AS) is")
+            && err.contains("lower --photons"),
+        "{err}"
+    );
+}

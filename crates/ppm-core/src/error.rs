@@ -26,6 +26,20 @@ pub enum SceneError {
          (the renderer computes in f32; lower the emission or intensity, or scale the scene)"
     )]
     LightPower { light: String, power: f64, max: f64 },
+    /// A light whose emitted radiance, intensity or irradiance exceeds
+    /// [`crate::light::MAX_EMISSION`]: its samples would pass the film's exact range and be
+    /// dropped.
+    #[error(
+        "{light}: `{field}` {value:.3e} exceeds the supported {max:.3e} (2^40): the film adds \
+         each sample exactly up to 2^56 (7.2e16) and keeps a factor 2^16 for the estimators' \
+         gain over what a light emits; lower `{field}`, or choose larger units"
+    )]
+    LightEmission {
+        light: String,
+        field: &'static str,
+        value: f64,
+        max: f64,
+    },
     /// A primitive names a material index that does not exist.
     #[error("material index {0} is out of range")]
     MissingMaterial(u32),

@@ -229,6 +229,14 @@ impl SceneBuilder {
                     max: crate::light::MAX_LIGHT_POWER as f64,
                 });
             }
+            if let Err((field, value)) = light.check_emission() {
+                return Err(SceneError::LightEmission {
+                    light: self.describe_light(light, index, &geometry),
+                    field,
+                    value,
+                    max: crate::light::MAX_EMISSION as f64,
+                });
+            }
         }
         // One environment at most: a ray that leaves the scene sees one radiance, and the
         // escaped path's MIS weight is against that light's sampling alone.

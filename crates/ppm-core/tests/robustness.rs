@@ -5,7 +5,7 @@
 use ppm_test_support::test_scenes;
 
 use ppm_core::integrator::{MemoryPart, Snapshot, MAX_DEPTH};
-use ppm_core::light::MAX_LIGHT_POWER;
+use ppm_core::light::MAX_EMISSION;
 use ppm_core::prelude::*;
 use std::sync::atomic::{AtomicU32, Ordering};
 use test_scenes::{cornell, BoxContents};
@@ -191,27 +191,28 @@ fn light_powers_must_fit_f32_arithmetic() {
             "{err}"
         );
     }
-    // Just below the bound (4 pi I = 0.9 MAX_LIGHT_POWER): accepted and finite, but its
-    // radiance here (about 1e18) is beyond the film's exact range (2^56 = 7.2e16): all 16
-    // pixels' estimates are rejected and counted, never clamped into a wrong image. A light
-    // of 1e15 W renders with nothing rejected.
-    let render = |power: f32| {
-        let scene = scene_with_point_light(power / (4.0 * std::f32::consts::PI)).unwrap();
-        let settings = RenderSettings {
-            photons: 2000,
-            ..RenderSettings::new(&scene)
-        };
-        let mut renderer = Renderer::new(&scene, &settings);
-        renderer.iterate(&scene);
-        let image = renderer.image();
-        assert!(image.pixels.iter().all(|p| p.is_finite()));
-        (renderer.rejected(), image)
+    // An intensity above MAX_EMISSION (2^40, the film's exact range less the estimators'
+    // gain) is an error naming the field, even though its power is far below
+    // MAX_LIGHT_POWER; at the bound the render drops nothing.
+    let Err(err) = scene_with_point_light(MAX_EMISSION * 1.01) else {
+        panic!("intensity above MAX_EMISSION accepted");
     };
-    let (rejected, _) = render(0.9 * MAX_LIGHT_POWER);
-    assert_eq!(rejected, 16);
-    let (rejected, image) = render(1e15);
-    assert_eq!(rejected, 0);
-    assert!(image.pixels.iter().any(|p| p.max_element() > 1e12));
+    let err = err.to_string();
+    assert!(
+        err.contains("point light 1") && err.contains("`intensity`") && err.contains("2^40"),
+        "{err}"
+    );
+    let scene = scene_with_point_light(MAX_EMISSION).unwrap();
+    let settings = RenderSettings {
+        photons: 2000,
+        ..RenderSettings::new(&scene)
+    };
+    let mut renderer = Renderer::new(&scene, &settings);
+    renderer.iterate(&scene);
+    let image = renderer.image();
+    assert!(image.pixels.iter().all(|p| p.is_finite()));
+    assert_eq!(renderer.rejected(), 0);
+    assert!(image.pixels.iter().any(|p| p.max_element() > 1e10));
     // Area lights: the emissive material is named.
     let camera = Camera::new(Vec3::ZERO, Vec3::NEG_Z, Vec3::Y, 60.0, (4, 4)).unwrap();
     let mut b = SceneBuilder::new(camera);

@@ -43,7 +43,7 @@ pub use memory::{
 pub use path::PathTracer;
 pub use photon_sink::PhotonSink;
 pub use ppm::{density_estimate, gather_limit, GatherContext, PpmRenderer};
-pub use radius::RadiusSchedule;
+pub use radius::{smallest_radius, RadiusSchedule};
 pub use renderer::{Aov, Features, Integrator, Renderer};
 pub use runner::Stop;
 pub use settings::{

@@ -1,5 +1,35 @@
 //! The global radius schedule of progressive photon mapping, which ppm, sppm and vcm share.
 
+/// The smallest initial merge radius ppm, sppm, vcm and bpm accept for a scene whose bounding
+/// box has diagonal `diagonal` (scene units): the larger of two bounds from single precision.
+///
+/// - The disc area pi r^2 must be a normal f32 (r >= sqrt(f32::MIN_POSITIVE / pi) = 6.1e-20,
+///   whatever the scene): below, pi r^2 is subnormal or 0, and the density estimate's
+///   1 / (pi r^2) and VCM's merge weights (which divide by pi r^2 times the light paths)
+///   overflow to infinity, so every merged sample is NaN or infinite and dropped.
+/// - The disc must be larger than the resolution of positions at the scene's scale: f32
+///   resolves a coordinate x only to half an ulp, a relative 2^-24, so hit points across a
+///   scene of extent D are known to within about 2^-24 D. A disc of radius below 2^-24 D
+///   is smaller than the rounding of the points it compares; a photon falls in it only where
+///   rounding puts it (its area is 2^-48 D^2 against surfaces of order D^2: one photon in
+///   10^14 at best), so the merge estimate is zero: a black image or one without indirect
+///   light.
+///
+/// The radius then shrinks as the schedule below says (by about n^((alpha - 1) / 2): a factor
+/// 100 after 10^6 iterations at alpha = 2/3); the bound is on the radius a render starts with.
+pub fn smallest_radius(diagonal: f32) -> f32 {
+    // sqrt(MIN_POSITIVE / pi) in f64, raised by 2^-20 relative so that pi r^2 computed in f32
+    // (two roundings) is still normal.
+    let normal_area = ((f32::MIN_POSITIVE as f64 / std::f64::consts::PI).sqrt()
+        * (1.0 + 1.0 / (1 << 20) as f64)) as f32;
+    let resolution = if diagonal.is_finite() {
+        diagonal * (1.0 / (1u32 << 24) as f32)
+    } else {
+        0.0
+    };
+    normal_area.max(resolution)
+}
+
 /// Knaus and Zwicker 2011 (eq. 19): after iteration i (i = 1, 2, ...) the squared radius
 /// shrinks as r_{i+1}^2 = r_i^2 (i + alpha) / (i + 1), alpha in (0, 1).
 ///
@@ -83,6 +113,23 @@ impl RadiusSchedule {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// At the bound pi r^2 is a normal f32 and 1 / (pi r^2) finite; for a unit scene the
+    /// precision bound (2^-24 = 6e-8) decides.
+    #[test]
+    fn the_smallest_radius_keeps_the_disc_area_normal() {
+        let r = smallest_radius(0.0);
+        let area = std::f32::consts::PI * r * r;
+        assert!(
+            area.is_normal() && (1.0 / area).is_finite(),
+            "{r:e} {area:e}"
+        );
+        assert!(r > 6.0e-20 && r < 6.2e-20, "{r:e}");
+        let below = r * 0.999;
+        assert!(!(std::f32::consts::PI * below * below).is_normal());
+        assert_eq!(smallest_radius(1.0), 1.0 / (1u32 << 24) as f32);
+        assert_eq!(smallest_radius(f32::INFINITY), r);
+    }
 
     /// A replay cut short by a stop request keeps what it reached and, continued, ends bit
     /// for bit where an uninterrupted one does.

@@ -66,6 +66,20 @@ use glam::{Vec2, Vec3};
 /// it (a 100 W bulb is 1e2 W; the sun, 3.8e26 W, must be modelled by its irradiance).
 pub const MAX_LIGHT_POWER: f32 = 1e20;
 
+/// The largest emitted radiance per channel (W/(m^2 sr)) a light may have, and likewise the
+/// largest point or spot light intensity (W/sr) and directional irradiance (W/m^2): 2^40
+/// (1.1e12), the film's range with room for the estimators' gain.
+///
+/// The film adds each sample exactly up to [`crate::film::MAX_ESTIMATE`] = 2^56 (7.2e16) and
+/// drops larger ones. A camera path that sees an emitter adds its radiance L itself (times an
+/// MIS weight and a throughput of at most 1 for energy-conserving surfaces), so L must be
+/// below 2^56; a sample can exceed L by the estimator's gain: a density estimate weighs a
+/// photon by 1 / (N pi r^2) (light area over N times the merge disc area, 10 to 1000 at usual
+/// settings), a 1/pdf can exceed 1 where sampling is poor, and a point light's I/d^2 grows
+/// near it. 2^40 leaves a gain of 2^16 = 65536 before the film's bound, and is still 5e4
+/// times the sun's radiance (2e7 W/(m^2 sr)): no physically scaled scene comes near it.
+pub const MAX_EMISSION: f32 = (1u64 << 40) as f32;
+
 /// One light of the scene.
 #[derive(Clone, Debug)]
 pub enum Light {
@@ -348,6 +362,40 @@ impl Light {
             ),
         };
         Err(scale * value as f64)
+    }
+
+    /// `Ok` if every channel of what the light emits (an area light's radiance, a point or
+    /// spot light's intensity, a directional light's irradiance, an environment's radiance
+    /// times its scale, its brightest texel for a map) is at most [`MAX_EMISSION`]; else the
+    /// field that sets it, as the scene format names it, and its largest channel.
+    pub fn check_emission(&self) -> Result<(), (&'static str, f64)> {
+        let (field, value) = match self {
+            Light::Triangle(light) => ("emission", light.le.max_element()),
+            Light::Sphere(light) => ("emission", light.le.max_element()),
+            Light::Point(light) => ("intensity", light.intensity.max_element()),
+            Light::Spot(light) => ("intensity", light.intensity.max_element()),
+            Light::Directional(light) => ("irradiance", light.irradiance.max_element()),
+            Light::Environment(light) => {
+                let (map, scale, _) = light.parts();
+                let brightest = match map {
+                    EnvironmentMap::Constant(c) => c.max_element(),
+                    EnvironmentMap::Image(m) => m
+                        .texels()
+                        .iter()
+                        .fold(0.0f32, |a, t| a.max(t.max_element())),
+                };
+                (
+                    "radiance (`color` or `file` times `scale`)",
+                    brightest * scale,
+                )
+            }
+        };
+        let value = value as f64;
+        if value <= MAX_EMISSION as f64 {
+            Ok(())
+        } else {
+            Err((field, value))
+        }
     }
 
     /// True for lights that only light sampling can find (see [`LightKind::is_delta`]).
