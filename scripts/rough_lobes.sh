@@ -4,9 +4,10 @@
 # caustic landing on a rough gold floor) and each roughness, pt, ppm, sppm and vcm render
 # ITERATIONS iterations at 32 x 32 for SEEDS seeds (relMSE and render time from --error-log),
 # against a long vcm reference of REF_ITERATIONS iterations. The four algorithms run
-# alternated (pt ppm sppm vcm pt ppm ...), so that the busy machine's load falls on all of them alike; the table gives each algorithm's mean relMSE at
-# equal iterations, its median time per run relative to pt's, and their product relative to
-# pt's (relMSE at equal time, as relMSE falls as 1/time).
+# alternated (pt ppm sppm vcm pt ppm ...), so that the busy machine's load falls on all of
+# them alike; the table gives each algorithm's mean relMSE at equal iterations, its median
+# time per run relative to pt's, and their product relative to pt's (relMSE at equal time,
+# as relMSE falls as 1/time).
 # Writes docs/rough-lobes.csv (one row per scene, roughness and algorithm).
 # Usage: scripts/rough_lobes.sh [ITERATIONS] [SEEDS] [REF_ITERATIONS]
 set -euo pipefail
