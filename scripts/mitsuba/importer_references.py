@@ -13,7 +13,12 @@ Run from anywhere, with Mitsuba 3.9.1 installed (see scripts/mitsuba/bsdf_values
     /work/venv-mitsuba/bin/python scripts/mitsuba/importer_references.py [spp] [seeds] [names]
 
 Defaults: 2048 samples per pixel, 8 seeds, every scene (about 20 minutes on a busy core);
-`names` (comma-separated, as in the table) renders only those and keeps the other rows. With
+`names` (comma-separated, as in the table) renders only those and keeps the other rows.
+The rough-lobe rows (`rough_lobe_metal/<alpha>`, `rough_lobe_glass/<alpha>`, read by
+tests/rough_lobes.rs) were rendered at 512 samples per pixel:
+
+    /work/venv-mitsuba/bin/python scripts/mitsuba/importer_references.py 512 8 \
+        rough_lobe_metal/0.001,rough_lobe_metal/0.01,...,rough_lobe_glass/0.5 With
 --png also writes /tmp/<scene>.png previews (not used by the tests).
 """
 
@@ -41,7 +46,13 @@ SCENES = {
     "spot": ("spot.xml", {}),
     "directional": ("directional.xml", {}),
     "floor_lamp": ("floor_lamp.xml", {}),
+    "water_glass": ("water_glass.xml", {}),
 }
+# The rough-lobe scenes (tests/rough_lobes.rs, docs/rough-lobes.md) at each roughness.
+ROUGHNESSES = ["0.001", "0.01", "0.05", "0.1", "0.23", "0.5"]
+for _kind in ["metal", "glass"]:
+    for _alpha in ROUGHNESSES:
+        SCENES["rough_lobe_%s/%s" % (_kind, _alpha)] = ("rough_lobe_%s.xml" % _kind, {"alpha": _alpha})
 HEADER = "scene,spp,seeds,mean_r,mean_g,mean_b,se_r,se_g,se_b"
 
 

@@ -336,7 +336,7 @@ fn roughness(
             "roughplastic takes one `alpha`, no anisotropic roughness (as in Mitsuba)".into(),
         )),
         (alpha, None, None) => {
-            let a = alpha.as_ref().map_or(DEFAULT_ALPHA, |a| a.0);
+            let a = alpha.as_ref().map_or(DEFAULT_ALPHA, |a| a.value());
             Ok(make(a, a))
         }
     }

@@ -8,7 +8,9 @@ use crate::values::{Reflectance, Triple, TripleVisitor};
 use crate::yaml::{MaterialDesc, MaterialType};
 use crate::LoadError;
 use glam::{Vec2, Vec3};
-use ppm_core::texture::{Bitmap, Checkerboard, ColourSlot, Filter, Texture, UvTransform, WrapMode};
+use ppm_core::texture::{
+    texture_scalar, Bitmap, Checkerboard, ColourSlot, Filter, Texture, UvTransform, WrapMode,
+};
 use serde::de::{value::MapAccessDeserializer, Deserializer, MapAccess, SeqAccess, Visitor};
 use serde::Deserialize;
 use std::cell::OnceCell;
@@ -30,6 +32,77 @@ impl Colour {
         match self {
             Colour::Value(t) => t.value(),
             Colour::Texture(_, mean) => mean.get().copied().unwrap_or(Vec3::ZERO),
+        }
+    }
+}
+
+/// `alpha` of a rough material: a number >= 0 or a texture whose values (their
+/// [`texture_scalar`]: luminance, a grey as it is) are the roughness over the
+/// surface ([`ColourSlot::Roughness`]).
+pub enum RoughnessValue {
+    Value(f32),
+    /// A texture and, once [`textures`] has loaded it, its mean (the material's nominal
+    /// roughness).
+    Texture(Box<TextureDesc>, OnceCell<Vec3>),
+}
+
+impl RoughnessValue {
+    /// The constant, or the luminance of the loaded texture's mean.
+    pub fn value(&self) -> f32 {
+        match self {
+            RoughnessValue::Value(a) => *a,
+            RoughnessValue::Texture(_, mean) => {
+                texture_scalar(mean.get().copied().unwrap_or(Vec3::ZERO))
+            }
+        }
+    }
+}
+
+impl<'de> Deserialize<'de> for RoughnessValue {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct V;
+        impl V {
+            fn check<E: serde::de::Error>(x: f64) -> Result<RoughnessValue, E> {
+                let a = x as f32;
+                if a.is_finite() && a >= 0.0 {
+                    Ok(RoughnessValue::Value(a))
+                } else {
+                    Err(E::custom(format!(
+                        "{x} is out of range, expected a finite number >= 0"
+                    )))
+                }
+            }
+        }
+        impl<'de> Visitor<'de> for V {
+            type Value = RoughnessValue;
+            fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+                f.write_str(
+                    "a roughness (a number >= 0) or a texture { texture: bitmap | checkerboard, ... }",
+                )
+            }
+            fn visit_f64<E: serde::de::Error>(self, x: f64) -> Result<RoughnessValue, E> {
+                V::check(x)
+            }
+            fn visit_i64<E: serde::de::Error>(self, x: i64) -> Result<RoughnessValue, E> {
+                V::check(x as f64)
+            }
+            fn visit_u64<E: serde::de::Error>(self, x: u64) -> Result<RoughnessValue, E> {
+                V::check(x as f64)
+            }
+            fn visit_map<A: MapAccess<'de>>(self, map: A) -> Result<RoughnessValue, A::Error> {
+                let desc = TextureDesc::deserialize(MapAccessDeserializer::new(map))?;
+                Ok(RoughnessValue::Texture(Box::new(desc), OnceCell::new()))
+            }
+        }
+        d.deserialize_any(V)
+    }
+}
+
+impl fmt::Debug for RoughnessValue {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            RoughnessValue::Value(a) => a.fmt(f),
+            RoughnessValue::Texture(t, _) => write!(f, "texture {:?}", t.texture),
         }
     }
 }
@@ -223,6 +296,19 @@ pub(crate) fn textures(
             let _ = mean.set(texture.mean());
             slots.push((slot, texture));
         }
+    }
+    if let Some(RoughnessValue::Texture(t, mean)) = &d.alpha {
+        if matches!(d.kind, MaterialType::RoughPlastic) {
+            return Err(LoadError::invalid(
+                path,
+                format!("{field}.alpha"),
+                "a roughness texture is not supported on roughplastic (its coating's \
+                 reflectance tables are computed per roughness): give a number",
+            ));
+        }
+        let texture = load_texture(t, &format!("{field}.alpha"), path, dir)?;
+        let _ = mean.set(texture.mean());
+        slots.push((ColourSlot::Roughness, texture));
     }
     if let Some(nested) = &d.bsdf {
         slots.extend(textures(nested, &format!("{field}.bsdf"), path, dir)?);

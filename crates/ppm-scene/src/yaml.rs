@@ -5,7 +5,7 @@
 //! of errors inside them. Which fields a type takes is checked afterwards in `build.rs`.
 
 use crate::ior::Ior;
-use crate::texture_desc::Colour;
+use crate::texture_desc::{Colour, RoughnessValue};
 use crate::values::{
     Alpha, Count, Depth, FieldOfView, Finite, GatherRadius, NonNegative, Num, Point, Positive,
     Resolution, Triple,
@@ -81,7 +81,7 @@ pub struct MaterialDesc {
     pub specular: Option<Colour>,
     pub exponent: Option<Num<NonNegative>>,
     // The Mitsuba-style materials (conductor ... twosided), with Mitsuba's parameter names.
-    pub alpha: Option<Num<NonNegative>>,
+    pub alpha: Option<RoughnessValue>,
     pub alpha_u: Option<Num<NonNegative>>,
     pub alpha_v: Option<Num<NonNegative>>,
     pub distribution: Option<String>,

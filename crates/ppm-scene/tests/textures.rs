@@ -382,3 +382,152 @@ fn mitsuba_texture_errors_name_the_plugin_and_file() {
     );
     assert!(e.contains("gone.png"), "{e}");
 }
+
+/// A gold floor whose roughness is a checkerboard of `alpha` (`{a0}` and `{a1}` replaced),
+/// lit from above and seen from above at an angle, with the highlight on the squares.
+fn rough_floor(alpha: &str) -> String {
+    format!(
+        "camera: {{ position: [0, 2, 1.2], look_at: [0, 0, 0], up: [0, 1, 0], fov: 60 }}
+resolution: [24, 24]
+materials:
+  gold: {{ type: roughconductor, material: Au, distribution: ggx, alpha: {alpha} }}
+  lamp: {{ type: diffuse, color: [0, 0, 0], emission: [8, 8, 8] }}
+objects:
+  - {{ type: quad, corner: [-2, 0, 2], edge_u: [4, 0, 0], edge_v: [0, 0, -4], material: gold }}
+  - {{ type: quad, corner: [-0.5, 3, -1.5], edge_u: [1, 0, 0], edge_v: [0, 0, 1], material: lamp }}
+"
+    )
+}
+
+/// The microfacet roughness of the BSDF at the film point `film` (`None`: the ray misses).
+fn alpha_at(scene: &Scene, film: glam::Vec2) -> Option<f32> {
+    let hit = scene.intersect(&scene.camera.generate_ray(film))?;
+    match scene.bsdf(&hit) {
+        ppm_core::bsdf::Bsdf::Conductor(c) => c.roughness.map(|d| d.alpha_x()),
+        other => panic!("{other:?}"),
+    }
+}
+
+/// A checkerboard roughness renders, pixel for pixel, as the render with the constant
+/// roughness of the square the pixel sees (same seed, so the same samples: bit for bit on
+/// every pixel whose footprint lies inside one square), and both roughnesses are seen.
+#[test]
+fn a_checkerboard_roughness_renders_as_the_constant_roughnesses() {
+    let checker = "{ texture: checkerboard, color0: [0.05, 0.05, 0.05], color1: [0.5, 0.5, 0.5] }";
+    let dir = write_files(
+        "rough_checker",
+        &[
+            ("checker.yml", &rough_floor(checker)),
+            ("smooth.yml", &rough_floor("0.05")),
+            ("rough.yml", &rough_floor("0.5")),
+        ],
+    );
+    let load = |name: &str| load_scene(&dir.join(name)).unwrap().scene;
+    let (checker, smooth, rough) = (load("checker.yml"), load("smooth.yml"), load("rough.yml"));
+    let image = |scene: &Scene| {
+        let settings = RenderSettings {
+            seed: 5,
+            ..RenderSettings::for_algorithm(scene, Algorithm::Path)
+        };
+        let mut r = Renderer::new(scene, &settings);
+        for _ in 0..8 {
+            r.iterate(scene);
+        }
+        r.image().pixels
+    };
+    let (c, s, r) = (image(&checker), image(&smooth), image(&rough));
+    let mut seen = [0; 2];
+    for j in 0..24u32 {
+        for i in 0..24u32 {
+            let corners = [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (1.0, 1.0)]
+                .map(|(x, y)| alpha_at(&checker, glam::Vec2::new(i as f32 + x, j as f32 + y)));
+            let Some(a) = corners[0] else { continue };
+            if corners.iter().any(|x| *x != Some(a)) {
+                continue;
+            }
+            let k = (j * 24 + i) as usize;
+            let (want, n) = if a == 0.05 { (s[k], 0) } else { (r[k], 1) };
+            assert_eq!(c[k], want, "pixel {i} {j}, alpha {a}");
+            seen[n] += 1;
+        }
+    }
+    assert!(seen[0] > 20 && seen[1] > 20, "{seen:?}");
+    // The two constant renders differ where the test compares them.
+    assert_ne!(s, r);
+}
+
+/// Mitsuba's `alpha` given a checkerboard reads as the YAML's; roughplastic's is an error.
+#[test]
+fn the_mitsuba_importer_reads_a_roughness_texture() {
+    let xml = |plugin: &str| {
+        format!(
+            r#"<scene version="3.0.0">
+    <sensor type="perspective">
+        <film type="hdrfilm">
+            <integer name="width" value="8"/>
+            <integer name="height" value="8"/>
+        </film>
+    </sensor>
+    <shape type="rectangle">
+        <bsdf type="{plugin}">
+            <texture type="checkerboard" name="alpha">
+                <rgb name="color0" value="0.05, 0.05, 0.05"/>
+                <rgb name="color1" value="0.5, 0.5, 0.5"/>
+            </texture>
+        </bsdf>
+    </shape>
+    <emitter type="point">
+        <point name="position" x="0" y="0" z="2"/>
+    </emitter>
+</scene>"#
+        )
+    };
+    let dir = write_files(
+        "mitsuba_rough_checker",
+        &[
+            ("conductor.xml", &xml("roughconductor")),
+            ("dielectric.xml", &xml("roughdielectric")),
+            ("plastic.xml", &xml("roughplastic")),
+        ],
+    );
+    for name in ["conductor.xml", "dielectric.xml"] {
+        let (builder, _) = load_scene_builder(&dir.join(name)).unwrap();
+        let scene = builder.build().unwrap();
+        let m = scene
+            .materials
+            .iter()
+            .find(|m| m.textures.is_some())
+            .expect("a textured material");
+        let alpha = |uv: glam::Vec2| match m.bsdf_at(uv) {
+            ppm_core::bsdf::Bsdf::Conductor(c) => c.roughness.unwrap().alpha_x(),
+            ppm_core::bsdf::Bsdf::Dielectric(d) => d.roughness.unwrap().alpha_x(),
+            other => panic!("{other:?}"),
+        };
+        assert_eq!(alpha(glam::Vec2::new(0.25, 0.25)), 0.05, "{name}");
+        assert_eq!(alpha(glam::Vec2::new(0.75, 0.25)), 0.5, "{name}");
+    }
+    let Err(e) = load_scene_builder(&dir.join("plastic.xml")) else {
+        panic!("a roughness texture on roughplastic loaded");
+    };
+    let e = e.to_string();
+    assert!(
+        e.contains("checkerboard") && e.contains("roughplastic"),
+        "{e}"
+    );
+}
+
+/// YAML: a roughness texture on roughplastic is an error naming the field.
+#[test]
+fn a_roughness_texture_on_roughplastic_is_an_error() {
+    let e = error_of(
+        &[(
+            "s.yml",
+            &format!("{SCENE_HEAD}materials:\n  m: {{ type: roughplastic, alpha: {{ texture: checkerboard }} }}\n"),
+        )],
+        "roughplastic_alpha_texture",
+    );
+    assert!(
+        e.contains("materials.m.alpha") && e.contains("roughplastic"),
+        "{e}"
+    );
+}

@@ -167,6 +167,16 @@ impl From<Beckmann> for Microfacet {
 }
 
 impl Microfacet {
+    /// The same distribution (GGX or Beckmann) with isotropic roughness `alpha`, clamped as
+    /// its constructor clamps: what a roughness texture sets at a hit.
+    #[inline]
+    pub fn with_alpha(&self, alpha: f32) -> Microfacet {
+        match self {
+            Microfacet::Ggx(_) => Ggx::new(alpha, alpha).into(),
+            Microfacet::Beckmann(_) => Beckmann::new(alpha, alpha).into(),
+        }
+    }
+
     /// Roughness along the local x axis.
     #[inline]
     pub fn alpha_x(&self) -> f32 {

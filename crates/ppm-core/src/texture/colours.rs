@@ -2,7 +2,18 @@
 //! plain [`Bsdf`] at a hit.
 
 use super::Texture;
-use crate::bsdf::Bsdf;
+use crate::bsdf::{luminance, Bsdf};
+
+/// The scalar a colour texture gives where a float is wanted (a roughness): its luminance,
+/// as Mitsuba 3 reads a colour texture as a float one; a grey is its own value exactly.
+#[inline]
+pub fn texture_scalar(c: Vec3) -> f32 {
+    if c.x == c.y && c.y == c.z {
+        c.x
+    } else {
+        luminance(c)
+    }
+}
 use glam::{Vec2, Vec3};
 
 /// A colour parameter of a BSDF (the names are Mitsuba 3's).
@@ -16,6 +27,11 @@ pub enum ColourSlot {
     SpecularReflectance,
     /// The tint of transmission: glass's colour, dielectric's `specular_transmittance`.
     SpecularTransmittance,
+    /// The isotropic microfacet roughness alpha of a rough conductor or dielectric
+    /// (Mitsuba's `alpha`): the texture's [`texture_scalar`] (its luminance, as Mitsuba reads
+    /// a colour texture as a float one), clamped as a constant alpha is. A scalar, so the lobe changes
+    /// width over the surface but keeps its distribution (GGX or Beckmann).
+    Roughness,
 }
 
 impl ColourSlot {
@@ -25,6 +41,7 @@ impl ColourSlot {
             ColourSlot::DiffuseReflectance => "diffuse reflectance",
             ColourSlot::SpecularReflectance => "specular reflectance",
             ColourSlot::SpecularTransmittance => "specular transmittance",
+            ColourSlot::Roughness => "roughness",
         }
     }
 
@@ -57,6 +74,15 @@ impl ColourSlot {
             (Bsdf::ThinDielectric(d), SpecularReflectance) => d.specular_reflectance = c,
             (Bsdf::ThinDielectric(d), SpecularTransmittance) => d.specular_transmittance = c,
             (Bsdf::Glass(g), SpecularTransmittance) => g.color = c,
+            (Bsdf::Conductor(m), Roughness) if m.roughness.is_some() => {
+                m.roughness = m.roughness.map(|d| d.with_alpha(texture_scalar(c)))
+            }
+            (Bsdf::TwoSidedConductor(t), Roughness) if t.0.roughness.is_some() => {
+                t.0.roughness = t.0.roughness.map(|d| d.with_alpha(texture_scalar(c)))
+            }
+            (Bsdf::Dielectric(d), Roughness) if d.roughness.is_some() => {
+                d.roughness = d.roughness.map(|m| m.with_alpha(texture_scalar(c)))
+            }
             (Bsdf::Diffuse(_), _)
             | (Bsdf::Phong(_), _)
             | (Bsdf::Plastic(_), _)

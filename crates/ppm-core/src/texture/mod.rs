@@ -17,7 +17,7 @@ mod srgb;
 
 pub use bitmap::{Bitmap, Filter, WrapMode};
 pub use checkerboard::Checkerboard;
-pub use colours::{ColourSlot, TexturedColours};
+pub use colours::{texture_scalar, ColourSlot, TexturedColours};
 pub use srgb::srgb_to_linear;
 
 use glam::{Vec2, Vec3};

@@ -40,6 +40,7 @@ fn slot(name: &str) -> ColourSlot {
     match name {
         "specular_reflectance" => ColourSlot::SpecularReflectance,
         "specular_transmittance" => ColourSlot::SpecularTransmittance,
+        "alpha" => ColourSlot::Roughness,
         _ => ColourSlot::DiffuseReflectance,
     }
 }

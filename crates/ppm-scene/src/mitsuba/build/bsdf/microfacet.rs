@@ -1,9 +1,13 @@
 //! The microfacet parameters of `roughconductor`, `roughdielectric` and `roughplastic`:
 //! `distribution`, `alpha` or `alpha_u`/`alpha_v`, `sample_visible`.
 
+use crate::mitsuba::build::texture::colour_or_texture;
 use crate::mitsuba::props::Props;
+use crate::mitsuba::spectrum::Role;
 use crate::LoadError;
+use glam::DVec3;
 use ppm_core::bsdf::{Beckmann, Ggx, Microfacet};
+use ppm_core::texture::texture_scalar;
 
 /// Mitsuba 3's default roughness.
 const DEFAULT_ALPHA: f64 = 0.1;
@@ -65,13 +69,22 @@ pub fn roughness(p: &Props, anisotropic: bool) -> Result<Microfacet, LoadError> 
     })
 }
 
-/// A roughness: a finite, non-negative float (a texture is an error naming it).
+/// A roughness: a finite, non-negative float, or for `alpha` of `roughconductor` and
+/// `roughdielectric` a texture (bitmap or checkerboard), recorded for the material as its
+/// [`ColourSlot::Roughness`](ppm_core::texture::ColourSlot::Roughness), whose mean's
+/// [`texture_scalar`] is the nominal roughness. Other textures (anisotropic ones, roughplastic's,
+/// whose coating tables are computed per roughness) are errors naming them.
 fn alpha(p: &Props, name: &str) -> Result<Option<f64>, LoadError> {
     if let Some(prop) = p.get(name) {
         if let crate::mitsuba::tree::Value::Object(i) = prop.value {
             let o = &p.tree.objects[i];
+            if name == "alpha" && o.class == "texture" && p.object.plugin != "roughplastic" {
+                let mean = colour_or_texture(p, name, DVec3::splat(DEFAULT_ALPHA), Role::Index)?;
+                return Ok(Some(texture_scalar(mean.as_vec3()) as f64));
+            }
             return Err(o.location.error(format!(
-                "{} (as `{name}` of {}) is not supported yet: ppm takes a constant roughness",
+                "{} (as `{name}` of {}) is not supported: ppm takes a texture roughness only as \
+                 `alpha` of roughconductor and roughdielectric",
                 o.describe(),
                 p.object.describe()
             )));
