@@ -1,7 +1,7 @@
 //! The command line. Flags are a contract with users' scripts: rename nothing.
 //!
 //! Rendering is the default: `ppm scene.yml -n 100` and `ppm render scene.yml -n 100` are the
-//! same. A scene file named like a subcommand (`compare`, `converge`, `merge`, `render`) can
+//! same. A scene file named like a subcommand (`compare`, `converge`, `convert`, `merge`, `render`) can
 //! still be rendered as `ppm ./compare`.
 
 use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
@@ -51,6 +51,9 @@ pub enum Command {
     /// Join the EXRs of shards (or consecutive slices) of one render into the image of the
     /// whole render, bit for bit.
     Merge(MergeArgs),
+    /// Write a scene (YAML, Mitsuba XML or pbrt-v4) as scene format v1: what ppm understood
+    /// of it, to read and edit; meshes and images go to `<OUT stem>_files/` beside it.
+    Convert(ConvertArgs),
 }
 
 /// Iterations rendered when neither `-n` nor `--time-limit` is given.
@@ -262,6 +265,22 @@ pub struct MergeArgs {
     /// is created. `--outfile` (pbrt's name) is the same flag.
     #[arg(short, long, value_name = "PATH", required = true, alias = "outfile")]
     pub output: PathBuf,
+}
+
+#[derive(Args, Debug)]
+pub struct ConvertArgs {
+    /// The scene to convert: .xml (Mitsuba), .pbrt (pbrt-v4) or .yml; looked up as a
+    /// render's scene is.
+    #[arg(value_name = "SCENE")]
+    pub scene: PathBuf,
+    /// The YAML file to write; its meshes and images go to the folder `<OUT stem>_files/`
+    /// beside it.
+    #[arg(short, long, value_name = "OUT.yml", required = true)]
+    pub output: PathBuf,
+    /// Mitsuba XML scenes: give the scene's parameter `$NAME` this value, over its
+    /// `<default>` (as `mitsuba -D NAME=VALUE`); repeatable.
+    #[arg(short = 'D', value_name = "NAME=VALUE", value_parser = parse_define)]
+    pub define: Vec<(String, String)>,
 }
 
 /// The `-a` values: every name and alias of [`Algorithm::TABLE`], each name with its line of

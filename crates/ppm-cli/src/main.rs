@@ -10,6 +10,7 @@ mod bare_obj;
 mod black_image;
 mod compare;
 mod converge;
+mod convert;
 mod crop;
 mod display;
 mod error_log;
@@ -90,6 +91,7 @@ fn run(cli: Cli) -> Result<Outcome> {
         Some(Command::Compare(args)) => compare::run(&args).map(|()| Outcome::Finished),
         Some(Command::Info(args)) => info::run(&args.image).map(|()| Outcome::Finished),
         Some(Command::Merge(args)) => merge::run(&args).map(|()| Outcome::Finished),
+        Some(Command::Convert(args)) => convert::run(&args).map(|()| Outcome::Finished),
         Some(Command::Converge(args)) => {
             interrupt.install_handler()?;
             converge::run(&args, &interrupt)

@@ -29,6 +29,9 @@ pub struct Camera {
     focus_distance: f32,
     pub width: u32,
     pub height: u32,
+    /// The arguments of [`Camera::new`] that the frame was computed from (see
+    /// [`Camera::placement`]); not used in rendering.
+    placement: (Vec3, Vec3, f32),
 }
 
 impl Camera {
@@ -73,6 +76,7 @@ impl Camera {
             focus_distance: 1.0,
             width: 1,
             height: 1,
+            placement: (look_at, up, fov_degrees),
         };
         camera.up = camera.right.cross(forward);
         camera.set_resolution(width, height)?;
@@ -95,8 +99,17 @@ impl Camera {
 
     /// The same camera moved to `position` (orientation and field of view kept).
     pub fn with_position(mut self, position: Vec3) -> Self {
+        self.placement.0 += position - self.position;
         self.position = position;
         self
+    }
+
+    /// The `look_at`, `up` and vertical `fov_degrees` this camera was made from by
+    /// [`Camera::new`]: with `position`, [`Camera::new`] of them gives this camera's frame bit
+    /// for bit, which the frame alone cannot (normalising again rounds differently). Scene
+    /// writers (`ppm convert`) use them.
+    pub fn placement(&self) -> (Vec3, Vec3, f32) {
+        self.placement
     }
 
     /// The angle (radians, small-angle) one pixel subtends at the image centre:

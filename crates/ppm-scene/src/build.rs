@@ -246,6 +246,7 @@ fn light(l: &LightDesc, field: &str, origin: DVec3, path: &Path) -> Result<Light
         ("scale", l.scale.is_some()),
         ("rotate", l.rotate.is_some()),
         ("mapping", l.mapping.is_some()),
+        ("to_world", l.to_world.is_some()),
     ];
     let allowed: &[&str] = match l.kind {
         LightType::Point => &["position", "intensity"],
@@ -258,7 +259,7 @@ fn light(l: &LightDesc, field: &str, origin: DVec3, path: &Path) -> Result<Light
             "falloff_start",
         ],
         LightType::Directional => &["direction", "irradiance"],
-        LightType::Environment => &["color", "file", "scale", "rotate", "mapping"],
+        LightType::Environment => &["color", "file", "scale", "rotate", "to_world", "mapping"],
     };
     check_fields(path, field, kind, &present, allowed)?;
     let invalid = |name: &str, why: String| LoadError::invalid(path, format!("{field}{name}"), why);
@@ -333,8 +334,8 @@ fn light(l: &LightDesc, field: &str, origin: DVec3, path: &Path) -> Result<Light
             let cone = l
                 .cone_angle
                 .as_ref()
-                .ok_or_else(|| invalid("", "a spot light needs `cone_angle`".into()))?
-                .0;
+                .ok_or_else(|| invalid("", "a spot light needs `cone_angle`".into()))?;
+            let (cone, cone_radians) = (cone.degrees, cone.radians);
             if cone > 180.0 {
                 return Err(invalid(
                     ".cone_angle",
@@ -342,21 +343,18 @@ fn light(l: &LightDesc, field: &str, origin: DVec3, path: &Path) -> Result<Light
                 ));
             }
             // No falloff start: full intensity up to the cone's edge.
-            let start = l.falloff_start.as_ref().map_or(cone, |s| s.0);
+            let (start, start_radians) = l
+                .falloff_start
+                .as_ref()
+                .map_or((cone, cone_radians), |s| (s.degrees, s.radians));
             if start > cone {
                 return Err(invalid(
                     ".falloff_start",
                     format!("{start} degrees is beyond cone_angle ({cone} degrees)"),
                 ));
             }
-            Light::spot(
-                position,
-                direction,
-                intensity,
-                cone.to_radians(),
-                start.to_radians(),
-            )
-            .ok_or_else(|| invalid("", "not a valid spot light".into()))
+            Light::spot(position, direction, intensity, cone_radians, start_radians)
+                .ok_or_else(|| invalid("", "not a valid spot light".into()))
         }
     }
 }
@@ -400,15 +398,29 @@ fn add_mesh(
     } else {
         ObjMaterials::FromMtl
     };
-    let data =
-        obj::load_obj_relative(&obj_path, policy, origin, warnings).map_err(|e| match e {
-            LoadError::Io { path, what, source } => LoadError::Io {
-                path,
-                what: format!("{what} ({field}.file of {})", scene.display()),
-                source,
-            },
-            e => e,
-        })?;
+    let is_ply = Path::new(file)
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("ply"));
+    if is_ply && material.is_none() {
+        return Err(LoadError::invalid(
+            scene,
+            field,
+            "a PLY mesh has no materials of its own: give `material`",
+        ));
+    }
+    let loaded = if is_ply {
+        crate::ply_object::load_ply_object(&obj_path, origin)
+    } else {
+        obj::load_obj_relative(&obj_path, policy, origin, warnings)
+    };
+    let data = loaded.map_err(|e| match e {
+        LoadError::Io { path, what, source } => LoadError::Io {
+            path,
+            what: format!("{what} ({field}.file of {})", scene.display()),
+            source,
+        },
+        e => e,
+    })?;
     let offset = builder.materials.len() as u32;
     for m in data.materials {
         builder.add_material(m);

@@ -1,8 +1,9 @@
 //! `{ type: environment }` lights of scene format v1: a constant `color` or a radiance map
-//! `file` (radiance in W/(m^2 sr)), times `scale`, turned by `rotate`. A map is lat-long by
-//! default, in Mitsuba 3's frame (`envmap.rs` in ppm-core: its top row is +y, its left edge
-//! looks along -z and a quarter of the way across along +x); `mapping: equal_area` reads it
-//! as pbrt-v4's equal-area octahedral square (`equal_area.rs`: its centre is +z).
+//! `file` (radiance in W/(m^2 sr)), times `scale`, turned by `rotate` (or the matrix
+//! `to_world`). A map is lat-long by default, in Mitsuba 3's frame (`envmap.rs` in ppm-core:
+//! its top row is +y, its left edge looks along -z and a quarter of the way across along +x);
+//! `mapping: equal_area` reads it as pbrt-v4's equal-area octahedral square (`equal_area.rs`:
+//! its centre is +z).
 
 use crate::error::LoadError;
 use crate::yaml::{LightDesc, MapMapping};
@@ -47,9 +48,34 @@ pub(crate) fn light(l: &LightDesc, field: &str, path: &Path) -> Result<Light, Lo
         )),
     };
     let scale = l.scale.as_ref().map_or(1.0, |s| s.0);
-    let rotation = match &l.rotate {
-        None => Mat3::IDENTITY,
-        Some(r) => {
+    let rotation = match (&l.rotate, &l.to_world) {
+        (Some(_), Some(_)) => {
+            return Err(invalid(
+                "",
+                "an environment light takes `rotate` or `to_world`, not both".into(),
+            ))
+        }
+        (None, Some(m)) => {
+            let rows: Vec<f32> = m.iter().map(|x| x.0).collect();
+            let rows: [f32; 9] = rows.try_into().map_err(|_| {
+                invalid(
+                    ".to_world",
+                    format!("{} numbers; a 3 x 3 matrix is 9, row by row", m.len()),
+                )
+            })?;
+            let to_world = Mat3::from_cols_array(&rows).transpose();
+            let orthonormal = (to_world.transpose() * to_world).abs_diff_eq(Mat3::IDENTITY, 1e-3)
+                && (to_world.determinant().abs() - 1.0).abs() < 1e-3;
+            if !orthonormal {
+                return Err(invalid(
+                    ".to_world",
+                    "not a rotation or a mirror (its rows must be orthonormal)".into(),
+                ));
+            }
+            to_world
+        }
+        (None, None) => Mat3::IDENTITY,
+        (Some(r), None) => {
             let axis = r.axis.value();
             let Some(axis) = axis.try_normalize() else {
                 return Err(invalid(".rotate.axis", format!("{axis} has no direction")));

@@ -19,9 +19,11 @@
 //! # Ok::<(), ppm_scene::LoadError>(())
 //! ```
 
+mod angle;
 mod build;
 mod closed_glass;
 mod content_hash;
+pub mod convert;
 mod environment;
 mod error;
 pub mod fov;
@@ -39,6 +41,7 @@ mod object_transform;
 pub mod pbrt;
 pub mod placement;
 pub mod ply;
+mod ply_object;
 pub mod radiance_map;
 pub mod serialized;
 mod texture_desc;

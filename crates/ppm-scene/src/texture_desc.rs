@@ -146,6 +146,9 @@ pub struct TextureDesc {
     /// uv -> uv * scale + offset before the look-up.
     pub scale: Option<[f32; 2]>,
     pub offset: Option<[f32; 2]>,
+    /// uv -> the affine map of 6 numbers `[a, b, c, d, e, f]`: u' = a u + b v + c,
+    /// v' = d u + e v + f (Mitsuba's `to_uv`, e.g. a rotation); instead of scale and offset.
+    pub to_uv: Option<[f32; 6]>,
     /// Checkerboard's two colours.
     pub color0: Option<Triple<Reflectance>>,
     pub color1: Option<Triple<Reflectance>>,
@@ -191,7 +194,18 @@ pub(crate) fn load_texture(
     if !finite(scale) || !finite(offset) {
         return Err(err("texture scale and offset must be finite".into()));
     }
-    let transform = UvTransform::scale_offset(Vec2::from(scale), Vec2::from(offset));
+    let transform = match t.to_uv {
+        Some(_) if t.scale.is_some() || t.offset.is_some() => {
+            return Err(err(
+                "give either `to_uv` or `scale` and `offset`, not both".into()
+            ))
+        }
+        Some(m) if !m.iter().all(|x| x.is_finite()) => {
+            return Err(err("texture to_uv must be finite".into()))
+        }
+        Some(m) => UvTransform { m },
+        None => UvTransform::scale_offset(Vec2::from(scale), Vec2::from(offset)),
+    };
     let only = |allowed: &[&str]| -> Result<(), LoadError> {
         let present = [
             ("file", t.file.is_some()),

@@ -122,6 +122,13 @@ impl<'de, R: Rule> Deserialize<'de> for Num<R> {
 
 struct NumVisitor<R>(PhantomData<R>);
 
+impl<R: Rule> Num<R> {
+    /// `x` as a number if the rule accepts it, else the error saying what is expected.
+    pub(crate) fn check<E: de::Error>(x: f64) -> Result<Num<R>, E> {
+        NumVisitor::check(x)
+    }
+}
+
 impl<R: Rule> NumVisitor<R> {
     fn check<E: de::Error>(x: f64) -> Result<Num<R>, E> {
         let y = x as f32;

@@ -157,9 +157,10 @@ pub struct LightDesc {
     /// directional light travels (`direction` only).
     pub direction: Option<Point>,
     pub look_at: Option<Point>,
-    /// A spot light's cone angle and falloff start, degrees from the axis.
-    pub cone_angle: Option<Num<Positive>>,
-    pub falloff_start: Option<Num<NonNegative>>,
+    /// A spot light's cone angle and falloff start, degrees from the axis (or
+    /// `{ radians: x }`).
+    pub cone_angle: Option<crate::angle::Angle<Positive>>,
+    pub falloff_start: Option<crate::angle::Angle<NonNegative>>,
     /// An environment light's constant radiance, W/(m^2 sr) per channel.
     pub color: Option<Triple<NonNegative>>,
     /// An environment light's lat-long radiance map (EXR, HDR or PNG), relative to the scene
@@ -169,6 +170,9 @@ pub struct LightDesc {
     pub scale: Option<Num<NonNegative>>,
     /// Rotates an environment light's map: `angle` degrees about `axis` (right-handed).
     pub rotate: Option<RotateDesc>,
+    /// Turns an environment light's map by this 3 x 3 rotation, 9 numbers row by row
+    /// (instead of `rotate`; `ppm convert` writes it for a Mitsuba `to_world`).
+    pub to_world: Option<Vec<Num<Finite>>>,
     /// How an environment light's `file` maps onto the sphere (default `latlong`).
     pub mapping: Option<MapMapping>,
 }
