@@ -1,5 +1,6 @@
 //! Mitsuba XML (versions 0.5/0.6 and 2/3) to a [`SceneTree`]: elements, `$name`
-//! substitution with `<default>`s and the caller's defines, `<include>`, `id` and `<ref>`,
+//! substitution with `<default>`s and the caller's defines, `<include>`, `<path>`, `id` and
+//! `<ref>`,
 //! transforms, colours and spectra, and the upgrade of old property names (`names.rs`).
 //! Nothing here knows what a plugin means.
 //!
@@ -67,12 +68,14 @@ pub fn parse_str(
         files: vec![path.to_path_buf()],
         include_stack: vec![canonical(path)],
         includes: 0,
+        search_paths: Vec::new(),
     };
     let root = parser.parse_document(text, path)?;
     Ok(SceneTree {
         objects: parser.objects,
         root,
         files: parser.files,
+        search_paths: parser.search_paths,
     })
 }
 
@@ -128,6 +131,8 @@ struct Parser {
     /// The files being read, outermost first (canonical paths), to refuse include cycles.
     include_stack: Vec<PathBuf>,
     includes: usize,
+    /// Directories of `<path value="...">`, the latest first.
+    search_paths: Vec<PathBuf>,
 }
 
 impl Parser {
@@ -317,6 +322,7 @@ impl Parser {
                 return Ok(());
             }
             "include" => return self.include(file, node, owner, depth),
+            "path" => return self.search_path(file, node, owner),
             "ref" => {
                 let id = self.need(file, node, "id")?;
                 let name = match self.attr(file, node, "name")? {
@@ -499,6 +505,27 @@ impl Parser {
             self.add_property(owner, name, p.value, p.location)?;
         }
         let _ = depth;
+        Ok(())
+    }
+
+    /// `<path value="dir"/>`, a child of a `<scene>`: `dir` (relative to the file that names
+    /// it) is searched for the files plugins name, before the directory of the file naming
+    /// them, and after the `<path>`s that follow it (Mitsuba 3 prepends each to its file
+    /// resolver). The directory must exist, as in Mitsuba.
+    fn search_path(&mut self, file: &File, node: Node, owner: usize) -> Result<(), LoadError> {
+        let location = file.location(node);
+        if self.objects[owner].class != "scene" {
+            return Err(location.error("<path> must be a child of <scene>"));
+        }
+        let value = self.need(file, node, "value")?;
+        let dir = file.path.parent().unwrap_or(Path::new("")).join(&value);
+        if !dir.is_dir() {
+            return Err(location.error(format!(
+                "<path value=\"{value}\">: no directory {}",
+                dir.display()
+            )));
+        }
+        self.search_paths.insert(0, dir);
         Ok(())
     }
 

@@ -117,11 +117,30 @@ pub struct SceneTree {
     pub root: usize,
     /// Every file read (the scene and its includes), in order.
     pub files: Vec<PathBuf>,
+    /// The directories of the scene's `<path>` elements, the latest first.
+    pub search_paths: Vec<PathBuf>,
 }
 
 impl SceneTree {
     /// The scene element.
     pub fn root(&self) -> &Object {
         &self.objects[self.root]
+    }
+
+    /// The file a plugin written in `naming_file` means by `name` (an OBJ, a texture, an
+    /// envmap): `name` itself if absolute; otherwise the first of the `<path>` directories
+    /// (latest first) that has it, as Mitsuba's file resolver searches them, and else the
+    /// directory of `naming_file` (also when no directory has it, so that the error names
+    /// the file next to the scene).
+    pub fn resolve(&self, naming_file: &Path, name: &str) -> PathBuf {
+        let name = Path::new(name);
+        if name.is_absolute() {
+            return name.to_path_buf();
+        }
+        self.search_paths
+            .iter()
+            .map(|dir| dir.join(name))
+            .find(|p| p.exists())
+            .unwrap_or_else(|| naming_file.parent().unwrap_or(Path::new("")).join(name))
     }
 }
