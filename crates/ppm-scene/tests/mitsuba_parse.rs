@@ -131,6 +131,7 @@ fn path_elements_add_directories_searched_for_files() {
             ("later/meshes/both.obj", "v 0 0 0"),
             ("scenes/meshes/both.obj", "v 0 0 0"),
             ("scenes/local.obj", "v 0 0 0"),
+            ("scenes/parts/inc.xml", "<scene version=\"3.0.0\"/>"),
             ("scenes/missing.xml", "<scene version=\"3.0.0\">\n\n  <path value=\"nowhere\"/>\n</scene>"),
             (
                 "scenes/nested.xml",
@@ -156,6 +157,11 @@ fn path_elements_add_directories_searched_for_files() {
         canonical(&tree.resolve(&main, "local.obj")),
         canonical(&dir.join("scenes/local.obj"))
     );
+    // Named in an included file one folder down: next to the main scene, as Mitsuba finds it.
+    assert_eq!(
+        canonical(&tree.resolve(&dir.join("scenes/parts/inc.xml"), "local.obj")),
+        canonical(&dir.join("scenes/local.obj"))
+    );
     // Nowhere: next to the scene, for the error to name.
     assert_eq!(tree.resolve(&main, "none.obj"), dir.join("scenes/none.obj"));
 
@@ -174,6 +180,20 @@ fn a_ref_to_an_unknown_id_names_it_and_its_line() {
     let m = message(parse(xml).unwrap_err());
     assert!(m.starts_with("scene.xml:3: "), "{m}");
     assert!(m.contains("nowhere"), "{m}");
+    // A <ref> may come before its object, as in Mitsuba 3, but not inside it.
+    let forward = "<scene version=\"3.0.0\">\n<shape type=\"cube\"><ref id=\"later\"/></shape>\n<bsdf type=\"diffuse\" id=\"later\"/></scene>";
+    let tree = parse(forward).unwrap();
+    let shape = tree.objects.iter().find(|o| o.class == "shape").unwrap();
+    let Value::Object(bsdf) = shape.properties[0].value else {
+        panic!()
+    };
+    assert_eq!(tree.objects[bsdf].id.as_deref(), Some("later"));
+    let cycle = "<scene version=\"3.0.0\">\n<bsdf type=\"twosided\" id=\"a\">\n<ref id=\"a\"/></bsdf></scene>";
+    let m = message(parse(cycle).unwrap_err());
+    assert!(
+        m.contains("scene.xml:2: ") && m.contains("contains itself"),
+        "{m}"
+    );
     let dup = "<scene version=\"3.0.0\">\n<bsdf type=\"diffuse\" id=\"a\"/>\n<bsdf type=\"diffuse\" id=\"a\"/></scene>";
     let m = message(parse(dup).unwrap_err());
     assert!(

@@ -253,3 +253,15 @@ fn twosided_cbox_matches_mitsuba() {
         32,
     );
 }
+#[test]
+fn cbox_rgb_from_includes_matches_mitsuba() {
+    check(
+        &Public {
+            name: "cbox-rgb",
+            file: "mitsuba-cbox/cbox-rgb.xml",
+            defines: &[("res", "64")],
+            warnings: &[SAMPLE_COUNT, CLIP],
+        },
+        32,
+    );
+}
