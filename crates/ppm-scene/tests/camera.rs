@@ -143,3 +143,32 @@ fn a_mitsuba_thinlens_is_the_yaml_lens() {
     let e = mitsuba_camera(r#"<float name="aperture_radius" value="-1"/>"#).unwrap_err();
     assert!(e.contains("aperture radius"), "{e}");
 }
+
+/// Mitsuba 3's `perspective` reads `focus_distance` (its projective cameras share it) and a
+/// pinhole has nothing to focus: files of the field write it (mitsuba-data's Cornell box), so
+/// it loads, to the same pinhole as without it.
+#[test]
+fn a_mitsuba_perspective_takes_and_ignores_focus_distance() {
+    let camera = |props: &str| {
+        let xml = format!(
+            r#"<scene version="3.0.0">
+<sensor type="perspective">{props}<float name="fov" value="60"/>
+<transform name="to_world"><lookat origin="0,1,4" target="0,1,0" up="0,1,0"/></transform>
+<film type="hdrfilm"><integer name="width" value="40"/><integer name="height" value="20"/></film></sensor>
+<emitter type="point"><point name="position" x="0" y="3" z="3"/><rgb name="intensity" value="5"/></emitter>
+</scene>"#
+        );
+        parse_mitsuba(&xml, Path::new("scene.xml"), &[])
+            .map(|(b, _)| b.camera)
+            .unwrap()
+    };
+    let with = camera(r#"<float name="focus_distance" value="1000"/>"#);
+    let without = camera("");
+    assert_eq!(with.lens_radius(), 0.0);
+    let film = Vec2::new(3.5, 17.5);
+    let (a, b) = (
+        with.generate_lens_ray(film, Vec2::new(0.3, 0.6)),
+        without.generate_lens_ray(film, Vec2::new(0.3, 0.6)),
+    );
+    assert_eq!((a.origin, a.dir), (b.origin, b.dir));
+}

@@ -113,6 +113,66 @@ fn includes_splice_their_objects_and_cycles_are_errors() {
     assert!(m.contains("includes itself"), "{m}");
 }
 
+/// `<path value="dir"/>` (Mitsuba 3's file resolver, as `docs/scenes/*.xml` of mitsuba-data
+/// use it: `<path value="../../common"/>`): a file named by a plugin is looked for in the
+/// `<path>` directories, the latest first, before the directory of the file naming it; a
+/// missing directory, or a `<path>` outside `<scene>`, is an error.
+#[test]
+fn path_elements_add_directories_searched_for_files() {
+    let dir = write_files(
+        "mitsuba_path",
+        &[
+            (
+                "scenes/main.xml",
+                "<scene version=\"3.0.0\">\n  <path value=\"../common\"/>\n  <path value=\"../later\"/>\n</scene>",
+            ),
+            ("common/meshes/a.obj", "v 0 0 0"),
+            ("common/meshes/both.obj", "v 0 0 0"),
+            ("later/meshes/both.obj", "v 0 0 0"),
+            ("scenes/meshes/both.obj", "v 0 0 0"),
+            ("scenes/local.obj", "v 0 0 0"),
+            ("scenes/parts/inc.xml", "<scene version=\"3.0.0\"/>"),
+            ("scenes/missing.xml", "<scene version=\"3.0.0\">\n\n  <path value=\"nowhere\"/>\n</scene>"),
+            (
+                "scenes/nested.xml",
+                "<scene version=\"3.0.0\">\n  <shape type=\"obj\">\n    <path value=\".\"/>\n  </shape>\n</scene>",
+            ),
+        ],
+    );
+    let main = dir.join("scenes/main.xml");
+    let tree = parse_file(&main, &[]).unwrap();
+    let canonical = |p: &Path| std::fs::canonicalize(p).unwrap();
+    // Only in a <path> directory.
+    assert_eq!(
+        canonical(&tree.resolve(&main, "meshes/a.obj")),
+        canonical(&dir.join("common/meshes/a.obj"))
+    );
+    // In both <path>s and next to the scene: the latest <path> wins.
+    assert_eq!(
+        canonical(&tree.resolve(&main, "meshes/both.obj")),
+        canonical(&dir.join("later/meshes/both.obj"))
+    );
+    // Only next to the scene.
+    assert_eq!(
+        canonical(&tree.resolve(&main, "local.obj")),
+        canonical(&dir.join("scenes/local.obj"))
+    );
+    // Named in an included file one folder down: next to the main scene, as Mitsuba finds it.
+    assert_eq!(
+        canonical(&tree.resolve(&dir.join("scenes/parts/inc.xml"), "local.obj")),
+        canonical(&dir.join("scenes/local.obj"))
+    );
+    // Nowhere: next to the scene, for the error to name.
+    assert_eq!(tree.resolve(&main, "none.obj"), dir.join("scenes/none.obj"));
+
+    let m = message(parse_file(&dir.join("scenes/missing.xml"), &[]).unwrap_err());
+    assert!(m.contains("missing.xml:3: "), "{m}");
+    assert!(m.contains("<path value=\"nowhere\">: no directory"), "{m}");
+    let m = message(parse_file(&dir.join("scenes/nested.xml"), &[]).unwrap_err());
+    assert!(m.contains("nested.xml:3: "), "{m}");
+    assert!(m.contains("<path> must be a child of <scene>"), "{m}");
+}
+
 #[test]
 fn a_ref_to_an_unknown_id_names_it_and_its_line() {
     let xml =
@@ -120,6 +180,20 @@ fn a_ref_to_an_unknown_id_names_it_and_its_line() {
     let m = message(parse(xml).unwrap_err());
     assert!(m.starts_with("scene.xml:3: "), "{m}");
     assert!(m.contains("nowhere"), "{m}");
+    // A <ref> may come before its object, as in Mitsuba 3, but not inside it.
+    let forward = "<scene version=\"3.0.0\">\n<shape type=\"cube\"><ref id=\"later\"/></shape>\n<bsdf type=\"diffuse\" id=\"later\"/></scene>";
+    let tree = parse(forward).unwrap();
+    let shape = tree.objects.iter().find(|o| o.class == "shape").unwrap();
+    let Value::Object(bsdf) = shape.properties[0].value else {
+        panic!()
+    };
+    assert_eq!(tree.objects[bsdf].id.as_deref(), Some("later"));
+    let cycle = "<scene version=\"3.0.0\">\n<bsdf type=\"twosided\" id=\"a\">\n<ref id=\"a\"/></bsdf></scene>";
+    let m = message(parse(cycle).unwrap_err());
+    assert!(
+        m.contains("scene.xml:2: ") && m.contains("contains itself"),
+        "{m}"
+    );
     let dup = "<scene version=\"3.0.0\">\n<bsdf type=\"diffuse\" id=\"a\"/>\n<bsdf type=\"diffuse\" id=\"a\"/></scene>";
     let m = message(parse(dup).unwrap_err());
     assert!(

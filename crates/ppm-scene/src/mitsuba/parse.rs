@@ -1,5 +1,6 @@
 //! Mitsuba XML (versions 0.5/0.6 and 2/3) to a [`SceneTree`]: elements, `$name`
-//! substitution with `<default>`s and the caller's defines, `<include>`, `id` and `<ref>`,
+//! substitution with `<default>`s and the caller's defines, `<include>`, `<path>`, `id` and
+//! `<ref>`,
 //! transforms, colours and spectra, and the upgrade of old property names (`names.rs`).
 //! Nothing here knows what a plugin means.
 //!
@@ -30,6 +31,9 @@ pub const MAX_INCLUDE_DEPTH: usize = 16;
 pub const MAX_INCLUDES: usize = 256;
 /// Most XML nodes in one file.
 const MAX_NODES: u32 = 4_000_000;
+/// A `<ref>` to an id not yet defined is `Value::Object(FORWARD + k)`, k its index in
+/// `Parser::forward`, until the whole scene is read.
+const FORWARD: usize = usize::MAX / 2;
 
 /// Object elements (a plugin each).
 const CLASSES: &[&str] = &[
@@ -67,12 +71,17 @@ pub fn parse_str(
         files: vec![path.to_path_buf()],
         include_stack: vec![canonical(path)],
         includes: 0,
+        search_paths: Vec::new(),
+        forward: Vec::new(),
     };
     let root = parser.parse_document(text, path)?;
+    parser.resolve_forward_refs()?;
+    refuse_cycles(&parser.objects)?;
     Ok(SceneTree {
         objects: parser.objects,
         root,
         files: parser.files,
+        search_paths: parser.search_paths,
     })
 }
 
@@ -128,6 +137,10 @@ struct Parser {
     /// The files being read, outermost first (canonical paths), to refuse include cycles.
     include_stack: Vec<PathBuf>,
     includes: usize,
+    /// Directories of `<path value="...">`, the latest first.
+    search_paths: Vec<PathBuf>,
+    /// `<ref>`s met before the object they name: (id, where the `<ref>` is).
+    forward: Vec<(String, Location)>,
 }
 
 impl Parser {
@@ -317,17 +330,23 @@ impl Parser {
                 return Ok(());
             }
             "include" => return self.include(file, node, owner, depth),
+            "path" => return self.search_path(file, node, owner),
             "ref" => {
                 let id = self.need(file, node, "id")?;
                 let name = match self.attr(file, node, "name")? {
                     Some(n) => self.property_name(file, n),
                     None => self.anonymous(owner),
                 };
-                let target = *self.ids.get(&id).ok_or_else(|| {
-                    location.error(format!(
-                        "<ref id=\"{id}\">: no object with this id is defined before it"
-                    ))
-                })?;
+                // Mitsuba 3 resolves references once the whole scene is read, so a `<ref>`
+                // may come before the object it names (mitsuba-data's Cornell box refers to
+                // its emitter before defining it).
+                let target = match self.ids.get(&id) {
+                    Some(&target) => target,
+                    None => {
+                        self.forward.push((id, location.clone()));
+                        FORWARD + self.forward.len() - 1
+                    }
+                };
                 return self.add_property(owner, name, Value::Object(target), location);
             }
             "float" => {
@@ -502,6 +521,46 @@ impl Parser {
         Ok(())
     }
 
+    /// Points the `<ref>`s met before their object at it, now that every id is known.
+    fn resolve_forward_refs(&mut self) -> Result<(), LoadError> {
+        for object in &mut self.objects {
+            for p in &mut object.properties {
+                if let Value::Object(i) = &mut p.value {
+                    if *i >= FORWARD {
+                        let (id, location) = &self.forward[*i - FORWARD];
+                        *i = *self.ids.get(id).ok_or_else(|| {
+                            location.error(format!(
+                                "<ref id=\"{id}\">: no object of the scene has this id"
+                            ))
+                        })?;
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// `<path value="dir"/>`, a child of a `<scene>`: `dir` (relative to the file that names
+    /// it) is searched for the files plugins name, before the directory of the file naming
+    /// them, and after the `<path>`s that follow it (Mitsuba 3 prepends each to its file
+    /// resolver). The directory must exist, as in Mitsuba.
+    fn search_path(&mut self, file: &File, node: Node, owner: usize) -> Result<(), LoadError> {
+        let location = file.location(node);
+        if self.objects[owner].class != "scene" {
+            return Err(location.error("<path> must be a child of <scene>"));
+        }
+        let value = self.need(file, node, "value")?;
+        let dir = file.path.parent().unwrap_or(Path::new("")).join(&value);
+        if !dir.is_dir() {
+            return Err(location.error(format!(
+                "<path value=\"{value}\">: no directory {}",
+                dir.display()
+            )));
+        }
+        self.search_paths.insert(0, dir);
+        Ok(())
+    }
+
     /// `x`, `y`, `z` attributes (missing ones `default`) or `value="x, y, z"` (or one value
     /// for all three).
     fn parse_xyz(&self, file: &File, node: Node, default: f64) -> Result<DVec3, LoadError> {
@@ -586,6 +645,53 @@ impl Parser {
         }
         Ok(m)
     }
+}
+
+/// An error if an object contains itself through `<ref>`s (`<bsdf id="a"><ref id="a"/>`),
+/// which forward references make possible: the build would never end. Depth-first search,
+/// iterative (a chain of references may be as long as the scene).
+fn refuse_cycles(objects: &[Object]) -> Result<(), LoadError> {
+    // 0: not visited, 1: on the current path, 2: done.
+    let mut state = vec![0u8; objects.len()];
+    let children = |o: usize| {
+        objects[o].properties.iter().filter_map(|p| match p.value {
+            Value::Object(c) => Some(c),
+            _ => None,
+        })
+    };
+    for start in 0..objects.len() {
+        if state[start] != 0 {
+            continue;
+        }
+        // (object, how many of its children are already pushed)
+        let mut stack = vec![(start, 0usize)];
+        state[start] = 1;
+        while let Some(&mut (o, ref mut next)) = stack.last_mut() {
+            match children(o).nth(*next) {
+                Some(c) => {
+                    *next += 1;
+                    match state[c] {
+                        0 => {
+                            state[c] = 1;
+                            stack.push((c, 0));
+                        }
+                        1 => {
+                            return Err(objects[c].location.error(format!(
+                                "{} contains itself through <ref>s",
+                                objects[c].describe()
+                            )))
+                        }
+                        _ => {}
+                    }
+                }
+                None => {
+                    state[o] = 2;
+                    stack.pop();
+                }
+            }
+        }
+    }
+    Ok(())
 }
 
 fn tag<'a>(node: Node<'a, '_>) -> &'a str {

@@ -117,11 +117,34 @@ pub struct SceneTree {
     pub root: usize,
     /// Every file read (the scene and its includes), in order.
     pub files: Vec<PathBuf>,
+    /// The directories of the scene's `<path>` elements, the latest first.
+    pub search_paths: Vec<PathBuf>,
 }
 
 impl SceneTree {
     /// The scene element.
     pub fn root(&self) -> &Object {
         &self.objects[self.root]
+    }
+
+    /// The file a plugin written in `naming_file` means by `name` (an OBJ, a texture, an
+    /// envmap): `name` itself if absolute; otherwise the first that exists of: `name` in the
+    /// `<path>` directories (latest first), as Mitsuba's file resolver searches them; next to
+    /// `naming_file`; next to the main scene file (where Mitsuba looks for the files named in
+    /// an `<include>`d file). When none exists, the path next to `naming_file`, for the error
+    /// to name.
+    pub fn resolve(&self, naming_file: &Path, name: &str) -> PathBuf {
+        let name = Path::new(name);
+        if name.is_absolute() {
+            return name.to_path_buf();
+        }
+        let beside = |file: &Path| file.parent().unwrap_or(Path::new("")).join(name);
+        self.search_paths
+            .iter()
+            .map(|dir| dir.join(name))
+            .chain([beside(naming_file)])
+            .chain(self.files.first().map(|main| beside(main)))
+            .find(|p| p.exists())
+            .unwrap_or_else(|| beside(naming_file))
     }
 }

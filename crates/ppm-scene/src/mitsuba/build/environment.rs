@@ -42,12 +42,7 @@ pub(super) fn add(
             let name = p
                 .string_opt("filename")?
                 .ok_or_else(|| p.error("emitter `envmap` needs a string `filename`"))?;
-            let path = p
-                .location()
-                .file
-                .parent()
-                .unwrap_or(std::path::Path::new(""))
-                .join(name);
+            let path = p.tree.resolve(&p.location().file, name);
             let image = read_rgb(&path)
                 .map_err(|e| p.error(format!("emitter `envmap`: {}: {e}", path.display())))?;
             let scale = p.float("scale", 1.0)?;

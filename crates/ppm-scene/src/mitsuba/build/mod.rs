@@ -12,7 +12,7 @@ pub mod shape;
 mod texture;
 
 use super::props::Props;
-use super::tree::{Object, SceneTree};
+use super::tree::{Object, SceneTree, Value};
 use crate::LoadError;
 use glam::Vec3;
 use ppm_core::bsdf::Bsdf;
@@ -58,7 +58,22 @@ pub fn build(tree: &SceneTree, warnings: &mut Vec<String>) -> Result<SceneBuilde
     for shape in root.objects("shape") {
         add_shape(tree, shape, &mut builder, &mut materials, warnings)?;
     }
+    // An area emitter defined at the top level with an id and given to shapes by `<ref>`
+    // (mitsuba-data's `cbox-rgb.xml`) is theirs: it lights them, not the scene.
+    let in_shapes: HashSet<usize> = tree
+        .objects
+        .iter()
+        .filter(|o| o.class == "shape")
+        .flat_map(|o| o.properties.iter())
+        .filter_map(|p| match p.value {
+            Value::Object(i) => Some(i),
+            _ => None,
+        })
+        .collect();
     for emitter in root.objects("emitter") {
+        if tree.objects[emitter].plugin == "area" && in_shapes.contains(&emitter) {
+            continue;
+        }
         emitter::add_emitter(tree, emitter, &mut builder, warnings)?;
     }
     // Media defined at the top level are rendered where a shape names them its interior

@@ -57,6 +57,10 @@ pub fn camera(
         let focus = p.float("focus_distance", far_clip)?;
         Some((radius, focus))
     } else {
+        // Mitsuba 3's projective cameras all read `focus_distance` (default `far_clip`);
+        // a pinhole has no lens to focus, so it changes nothing (many files of the field,
+        // Mitsuba's own Cornell box among them, write it on a `perspective`).
+        p.ignore(&["focus_distance"]);
         None
     };
     if p.get("near_clip").is_some() | p.get("far_clip").is_some() {

@@ -57,16 +57,13 @@ pub fn geometry(p: &Props, warnings: &mut Vec<String>) -> Result<Geometry, LoadE
     Ok(Geometry::Meshes(meshes))
 }
 
-/// A mesh file named by `filename`, relative to the XML file that names it.
+/// A mesh file named by `filename`, relative to a `<path>` directory or to the XML file that
+/// names it ([`SceneTree::resolve`](super::super::tree::SceneTree::resolve)).
 fn file(p: &Props) -> Result<PathBuf, LoadError> {
     let name = p
         .string_opt("filename")?
         .ok_or_else(|| p.error(format!("{} needs a string `filename`", p.object.describe())))?;
-    Ok(p.location()
-        .file
-        .parent()
-        .unwrap_or(std::path::Path::new(""))
-        .join(name))
+    Ok(p.tree.resolve(&p.location().file, name))
 }
 
 /// Moves `mesh` to the world by `m`: points by `m`, shading normals by its inverse transpose

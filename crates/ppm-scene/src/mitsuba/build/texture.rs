@@ -98,19 +98,14 @@ fn to_uv(p: &Props) -> Result<UvTransform, LoadError> {
     }
 }
 
-/// `bitmap`: the image file (relative to the XML file), `filter_type` bilinear (default) or
+/// `bitmap`: the image file (relative to the XML file or a `<path>`), `filter_type` bilinear (default) or
 /// nearest, `wrap_mode` repeat (default), mirror or clamp, `raw` (8-bit values taken as
 /// they are instead of sRGB-decoded).
 fn bitmap(p: &Props) -> Result<Texture, LoadError> {
     let name = p
         .string_opt("filename")?
         .ok_or_else(|| p.error(format!("{} needs a string `filename`", p.object.describe())))?;
-    let path = p
-        .location()
-        .file
-        .parent()
-        .unwrap_or(std::path::Path::new(""))
-        .join(name);
+    let path = p.tree.resolve(&p.location().file, name);
     let filter = match p.string_opt("filter_type")?.unwrap_or("bilinear") {
         "bilinear" => Filter::Bilinear,
         "nearest" => Filter::Nearest,
