@@ -383,6 +383,10 @@ impl Light {
                         .texels()
                         .iter()
                         .fold(0.0f32, |a, t| a.max(t.max_element())),
+                    EnvironmentMap::EqualArea(m) => m
+                        .texels()
+                        .iter()
+                        .fold(0.0f32, |a, t| a.max(t.max_element())),
                 };
                 (
                     "radiance (`color` or `file` times `scale`)",
