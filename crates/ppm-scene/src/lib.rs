@@ -168,7 +168,7 @@ pub fn parse_scene(text: &str, path: &Path) -> Result<(SceneBuilder, Vec<String>
     // A UTF-8 byte order mark (written by some Windows editors) is not part of the YAML.
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     nesting::check_nesting(text, path)?;
-    let file: yaml::SceneFile = serde_yaml::from_str(text).map_err(|e| LoadError::yaml(path, e))?;
+    let file: yaml::SceneFile = serde_yaml_ng::from_str(text).map_err(|e| LoadError::yaml(path, e))?;
     let mut warnings = Vec::new();
     let builder = build::build(file, path, &mut warnings)?;
     Ok((builder, warnings))
