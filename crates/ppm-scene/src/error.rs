@@ -74,8 +74,8 @@ impl LoadError {
         }
     }
 
-    /// A serde_yaml error, with its " at line L column C" moved to the front.
-    pub(crate) fn yaml(path: &Path, error: serde_yaml::Error) -> Self {
+    /// A serde_yaml_ng error, with its " at line L column C" moved to the front.
+    pub(crate) fn yaml(path: &Path, error: serde_yaml_ng::Error) -> Self {
         let mut message = error.to_string();
         let (line, column) = match error.location() {
             Some(loc) => {
@@ -98,7 +98,7 @@ impl LoadError {
 const MAX_QUOTE: usize = 60;
 
 /// `message` with every quoted string (`"..."`, with `\` escapes, as serde quotes values)
-/// cut to [`MAX_QUOTE`] characters and its first line: serde_yaml quotes the offending value
+/// cut to [`MAX_QUOTE`] characters and its first line: serde_yaml_ng quotes the offending value
 /// whole, and a file that is not YAML (an OBJ) is one 40 KB string to it.
 fn shorten_quotes(message: &str) -> String {
     let mut out = String::with_capacity(message.len().min(512));

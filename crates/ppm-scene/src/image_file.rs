@@ -11,6 +11,7 @@ use ppm_core::texture::srgb_to_linear;
 use std::path::Path;
 
 /// A decoded image: `width` x `height` linear RGB values, row-major from the top row.
+#[derive(Clone, Debug)]
 pub struct RgbImage {
     pub width: u32,
     pub height: u32,
@@ -20,6 +21,13 @@ pub struct RgbImage {
 /// Reads the image at `path` (`what` says what it is for, in errors: a missing file is an
 /// I/O error naming it, an undecodable one an error naming it and the decoder's reason).
 pub fn read_rgb_image(path: &Path, what: &str, raw: bool) -> Result<RgbImage, LoadError> {
+    // Read and decoded once per load however many materials use it (`file_cache`).
+    crate::file_cache::parsed("image", path, raw.to_string(), || {
+        read_uncached(path, what, raw)
+    })
+}
+
+fn read_uncached(path: &Path, what: &str, raw: bool) -> Result<RgbImage, LoadError> {
     let error = |source: std::io::Error| LoadError::Io {
         path: path.to_path_buf(),
         what: what.to_string(),
@@ -34,6 +42,7 @@ pub fn read_rgb_image(path: &Path, what: &str, raw: bool) -> Result<RgbImage, Lo
     let is_exr = path
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("exr"));
+    crate::file_cache::note_read();
     if is_exr {
         std::fs::metadata(path).map_err(error)?;
         return read_exr(path).map_err(broken);

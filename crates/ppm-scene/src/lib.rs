@@ -26,6 +26,7 @@ mod content_hash;
 pub mod convert;
 mod environment;
 mod error;
+mod file_cache;
 pub mod fov;
 pub mod image_file;
 pub mod ior;
@@ -51,6 +52,7 @@ mod yaml;
 pub use build::DEFAULT_RESOLUTION;
 pub use content_hash::content_hash;
 pub use error::LoadError;
+pub use file_cache::LoadStats;
 pub use nesting::MAX_NESTING;
 
 use ppm_core::scene::{Scene, SceneBuilder};
@@ -62,6 +64,8 @@ pub struct LoadedScene {
     pub warnings: Vec<String>,
     /// [`content_hash`] of the scene as loaded (meshes included).
     pub content_hash: u64,
+    /// What the load read: each file named by many objects is read once.
+    pub stats: LoadStats,
 }
 
 /// Loads a scene file (scene format v1, or a Mitsuba XML scene) and builds the scene (BVH,
@@ -76,7 +80,7 @@ pub fn load_scene_with_defines(
     path: &Path,
     defines: &[(String, String)],
 ) -> Result<LoadedScene, LoadError> {
-    let (builder, mut warnings) = load_scene_builder_with_defines(path, defines)?;
+    let (builder, mut warnings, stats) = load_scene_builder_with_stats(path, defines)?;
     let content_hash = content_hash(&builder);
     for (material, edges) in closed_glass::open_glass_edges(&builder) {
         warnings.push(format!(
@@ -130,6 +134,7 @@ pub fn load_scene_with_defines(
         scene,
         warnings,
         content_hash,
+        stats,
     })
 }
 
@@ -143,6 +148,24 @@ pub fn load_scene_builder(path: &Path) -> Result<(SceneBuilder, Vec<String>), Lo
 /// extension: `.xml` is a Mitsuba scene (`docs/mitsuba.md`), `.pbrt` a pbrt-v4 scene
 /// (`docs/pbrt.md`), anything else scene format v1.
 pub fn load_scene_builder_with_defines(
+    path: &Path,
+    defines: &[(String, String)],
+) -> Result<(SceneBuilder, Vec<String>), LoadError> {
+    load_scene_builder_with_stats(path, defines).map(|(builder, warnings, _)| (builder, warnings))
+}
+
+/// [`load_scene_builder_with_defines`] and what the load read ([`LoadStats`]).
+pub fn load_scene_builder_with_stats(
+    path: &Path,
+    defines: &[(String, String)],
+) -> Result<(SceneBuilder, Vec<String>, LoadStats), LoadError> {
+    // Every file named by many objects is read and parsed once within this load.
+    let scope = file_cache::LoadScope::begin();
+    let (builder, warnings) = load_by_extension(path, defines)?;
+    Ok((builder, warnings, scope.end()))
+}
+
+fn load_by_extension(
     path: &Path,
     defines: &[(String, String)],
 ) -> Result<(SceneBuilder, Vec<String>), LoadError> {
@@ -171,8 +194,10 @@ pub fn parse_scene(text: &str, path: &Path) -> Result<(SceneBuilder, Vec<String>
     // A UTF-8 byte order mark (written by some Windows editors) is not part of the YAML.
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     nesting::check_nesting(text, path)?;
-    let file: yaml::SceneFile = serde_yaml::from_str(text).map_err(|e| LoadError::yaml(path, e))?;
+    let file: yaml::SceneFile =
+        serde_yaml_ng::from_str(text).map_err(|e| LoadError::yaml(path, e))?;
     let mut warnings = Vec::new();
+    let _scope = file_cache::LoadScope::begin();
     let builder = build::build(file, path, &mut warnings)?;
     Ok((builder, warnings))
 }

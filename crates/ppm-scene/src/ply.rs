@@ -43,8 +43,11 @@ pub const MAX_FILE_BYTES: u64 = 4 << 30;
 
 /// Reads the PLY file at `path`.
 pub fn load_ply(path: &Path) -> Result<MeshData, LoadError> {
-    let bytes = read_bytes(path, "PLY file", MAX_FILE_BYTES)?;
-    parse_ply(&bytes, path)
+    // Read and parsed once per load however many shapes name it (`file_cache`).
+    crate::file_cache::parsed("ply", path, String::new(), || {
+        let bytes = read_bytes(path, "PLY file", MAX_FILE_BYTES)?;
+        parse_ply(&bytes, path)
+    })
 }
 
 /// A regular file's bytes, at most `max`.
@@ -71,6 +74,7 @@ pub(crate) fn read_bytes(path: &Path, what: &str, max: u64) -> Result<Vec<u8>, L
             format!("the file is {} bytes, more than the {max} read", meta.len()),
         ));
     }
+    crate::file_cache::note_read();
     std::fs::read(path).map_err(io)
 }
 

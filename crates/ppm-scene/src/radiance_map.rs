@@ -19,6 +19,7 @@ pub struct RgbImage {
 /// Reads `path` by its extension (`.exr`, `.hdr`, `.png`). The error says what went wrong,
 /// without the path (the caller names the file and the field).
 pub fn read_rgb(path: &Path) -> Result<RgbImage, String> {
+    crate::file_cache::note_read();
     let ext = path
         .extension()
         .map(|e| e.to_string_lossy().to_ascii_lowercase());
@@ -51,6 +52,8 @@ pub fn read_equal_area_map(path: &Path) -> Result<EqualAreaMap, String> {
 }
 
 fn read_exr(path: &Path) -> Result<RgbImage, String> {
+    crate::file_cache::note_read();
+    crate::file_cache::note_read();
     let image = exr::prelude::read_first_rgba_layer_from_file(
         path,
         |size, _| RgbImage {
@@ -71,6 +74,7 @@ fn read_with(
     format: image::ImageFormat,
     to_linear: fn(f32) -> f32,
 ) -> Result<RgbImage, String> {
+    crate::file_cache::note_read();
     let reader = BufReader::new(File::open(path).map_err(|e| e.to_string())?);
     let rgb = image::ImageReader::with_format(reader, format)
         .decode()

@@ -33,8 +33,13 @@ const MAX_NAME: usize = 4096;
 
 /// Reads mesh `shape_index` of the file at `path`.
 pub fn load_serialized(path: &Path, shape_index: u32) -> Result<MeshData, LoadError> {
-    let bytes = read_bytes(path, "serialized mesh file", MAX_FILE_BYTES)?;
-    parse_serialized(&bytes, path, shape_index)
+    // The file is read once per load, each of its meshes parsed once (`file_cache`).
+    crate::file_cache::parsed("serialized", path, shape_index.to_string(), || {
+        let bytes = crate::file_cache::parsed("serialized file", path, String::new(), || {
+            read_bytes(path, "serialized mesh file", MAX_FILE_BYTES).map(std::rc::Rc::new)
+        })?;
+        parse_serialized(&bytes, path, shape_index)
+    })
 }
 
 fn u16_at(b: &[u8], at: usize) -> Option<u16> {

@@ -32,7 +32,7 @@ pub enum ObjMaterials {
 }
 
 /// The meshes of one OBJ file and the materials they use.
-#[derive(Debug, Default)]
+#[derive(Clone, Debug, Default)]
 pub struct ObjData {
     /// One mesh per object and material; `TriangleMesh::materials` index into `materials`.
     pub meshes: Vec<TriangleMesh>,
@@ -67,8 +67,12 @@ pub fn load_obj_relative(
     origin: DVec3,
     warnings: &mut Vec<String>,
 ) -> Result<ObjData, LoadError> {
-    let text = read_text(path, "OBJ mesh")?;
-    parse_obj_relative(&text, path, materials, origin, warnings)
+    // Read and parsed once per load however many objects name it (`file_cache`).
+    let variant = format!("{materials:?} {:?}", origin.to_array());
+    crate::file_cache::parsed("obj", path, variant, || {
+        let text = read_text(path, "OBJ mesh")?;
+        parse_obj_relative(&text, path, materials, origin, warnings)
+    })
 }
 
 /// Parses OBJ text; `path` names it in messages and locates its MTL libraries.
@@ -215,6 +219,7 @@ pub(crate) fn read_text(path: &Path, what: &str) -> Result<String, LoadError> {
             format!("it is {}, not a regular file", file_kind(&meta.file_type())),
         )));
     }
+    crate::file_cache::note_read();
     let bytes = std::fs::read(path).map_err(io)?;
     // A UTF-8 byte order mark (written by some Windows editors and exporters) is not part of
     // the text: left in, it would glue itself to the first statement (an OBJ's first `v`).
@@ -286,8 +291,11 @@ fn load_libraries(
                 found.display()
             ));
         }
-        let text = read_text(&found, "MTL material library")?;
-        materials.extend(mtl::parse_mtl(&text, &found, warnings)?);
+        let library = crate::file_cache::parsed("mtl", &found, String::new(), || {
+            let text = read_text(&found, "MTL material library")?;
+            mtl::parse_mtl(&text, &found, warnings)
+        })?;
+        materials.extend(library);
     }
     Ok(materials)
 }
