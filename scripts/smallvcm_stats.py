@@ -27,10 +27,14 @@ mi.set_variant("scalar_rgb")
 
 
 def read(path):
-    bitmap = mi.Bitmap(path).convert(
-        mi.Bitmap.PixelFormat.RGB, mi.Struct.Type.Float32, srgb_gamma=False
-    )
-    return np.array(bitmap, dtype=np.float64)
+    """The image's R, G, B channels as linear floats (ppm's EXR has more channels)."""
+    bitmap = mi.Bitmap(path)
+    if bitmap.channel_count() == 3:
+        bitmap = bitmap.convert(mi.Bitmap.PixelFormat.RGB, mi.Struct.Type.Float32, False)
+        return np.array(bitmap, dtype=np.float64)
+    names = [field.name for field in bitmap.struct_()]
+    data = np.array(bitmap, dtype=np.float64)
+    return data[:, :, [names.index(c) for c in ("R", "G", "B")]]
 
 
 def main():
