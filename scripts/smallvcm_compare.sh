@@ -87,8 +87,10 @@ for alg in $techniques; do
     ppm_images+=("$out/ppm_${alg}_s$s.exr")
   done
   # Fields: K, reference mean, images' mean, relMSE, its standard error, relVar.
+  # relMSE against each renderer's own reference; relVar over the same denominators (SmallVCM's).
   read -r _ _ _ s_rel s_err s_var < <("$python" scripts/smallvcm_stats.py "$out/ref_smallvcm.hdr" "${svcm_images[@]}")
-  read -r _ _ _ p_rel p_err p_var < <("$python" scripts/smallvcm_stats.py "$out/ref_ppm.exr" "${ppm_images[@]}")
+  read -r _ _ _ p_rel p_err _ < <("$python" scripts/smallvcm_stats.py "$out/ref_ppm.exr" "${ppm_images[@]}")
+  read -r _ _ _ _ _ p_var < <("$python" scripts/smallvcm_stats.py "$out/ref_smallvcm.hdr" "${ppm_images[@]}")
   ratio=$(python3 -c "print(f'{$p_rel / $s_rel:.2f}')")
   echo "| $alg | $s_rel ± $s_err | $p_rel ± $p_err | $s_var | $p_var | $ratio |" >> "$table"
 done
