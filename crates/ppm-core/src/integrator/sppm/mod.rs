@@ -50,7 +50,8 @@ const PIXELS_PER_TASK: usize = 1024;
 const COARSER: f64 = 65_536.0;
 
 /// The render state of stochastic progressive photon mapping. Every buffer has one entry per
-/// pixel (the grid at most eight); none grows with the photons per iteration.
+/// pixel (the grid at most 8 entries, one disc and two buckets); none grows with the photons
+/// per iteration.
 pub struct SppmRenderer {
     settings: RenderSettings,
     /// The pixels rendered (the whole image unless cropped); every per-pixel buffer is the
@@ -99,13 +100,7 @@ impl SppmRenderer {
                 0..tasks,
                 &poll,
                 |task| {
-                    let mut splatter = Splatter {
-                        grid,
-                        points,
-                        accumulators,
-                        code: &code,
-                        counters: SplatCounters::default(),
-                    };
+                    let mut splatter = Splatter::new(grid, points, accumulators, &code);
                     let mut light = PhotonCounters::default();
                     let end = ((task + 1) * PATHS_PER_TASK).min(paths);
                     for path in task * PATHS_PER_TASK..end {
@@ -123,7 +118,7 @@ impl SppmRenderer {
                             &mut light,
                         );
                     }
-                    (splatter.counters, light.rays)
+                    (splatter.finish(), light.rays)
                 },
                 |(a, ra), (b, rb)| {
                     let sum = SplatCounters {
@@ -193,15 +188,16 @@ impl Integrator for SppmRenderer {
     }
 
     /// Per pixel only (statistics, visible point, accumulator, the direct-light film, the
-    /// image it keeps and the copy `image()` returns, and at most 8 grid entries plus a
-    /// bucket), whatever the photons per iteration.
+    /// image it keeps and the copy `image()` returns, and at most 8 grid entries, a disc and
+    /// two buckets), whatever the photons per iteration.
     fn memory_estimate(width: u32, height: u32, _settings: &RenderSettings) -> MemoryEstimate {
         let pixels = width as u64 * height as u64;
         let per_pixel = (std::mem::size_of::<PixelStatistics>()
             + std::mem::size_of::<SplatPoint>()
             + std::mem::size_of::<Accumulator>()
             + std::mem::size_of::<Vec3>()
-            + 9 * std::mem::size_of::<u32>()) as u64;
+            + std::mem::size_of::<glam::Vec4>()
+            + (grid::MAX_CELLS + 2) * std::mem::size_of::<u32>()) as u64;
         let mut estimate = MemoryEstimate::default();
         estimate.add(MemoryPart::Image, image_bytes(width, height));
         estimate.add(MemoryPart::Image, pixels.saturating_mul(per_pixel));
