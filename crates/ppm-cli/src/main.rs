@@ -7,6 +7,7 @@ mod console;
 mod usage;
 mod args;
 mod bare_obj;
+mod camera_matrices;
 mod black_image;
 mod compare;
 mod converge;
@@ -33,6 +34,7 @@ mod resume_flags;
 mod scene_search;
 mod setup;
 mod signal;
+mod state_attributes;
 mod state_check;
 mod state_file;
 

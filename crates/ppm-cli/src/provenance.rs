@@ -2,6 +2,7 @@
 //! records its settings), and the rule that decides whether two images are renders of the
 //! same thing (`--resume`, `ppm merge`).
 
+use crate::camera_matrices::CameraMatrices;
 use anyhow::{bail, Context, Result};
 use ppm_core::integrator::{Algorithm, DirectMode, LightStrategy, RenderSettings, Setting};
 use std::collections::BTreeMap;
@@ -79,6 +80,10 @@ pub struct Provenance {
     /// The pixels a `--cropwindow` / `--pixelbounds` render covers, `x0 x1 y0 y1 of WxH`: a
     /// part of the image, which is never resumed or merged as a whole one.
     pub crop: Option<String>,
+    /// The camera as pbrt-v4 records it (`worldToCamera`, `worldToNDC`), when known: set
+    /// from the scene by a render, carried over by `--resume` and `ppm merge` from files
+    /// that have it. Not a `ppm.*` attribute: not compared, not in the state checksum.
+    pub camera: Option<CameraMatrices>,
 }
 
 /// The setting an attribute of [`Provenance::identity`] records, if not every algorithm
@@ -144,6 +149,7 @@ impl Provenance {
             threads: threads.to_string(),
             shard: None,
             crop: None,
+            camera: None,
         }
     }
 
@@ -193,7 +199,7 @@ impl Provenance {
             })
     }
 
-    /// The header attributes, by name (all text, readable by any EXR viewer).
+    /// The `ppm.*` header attributes, by name, as text (`state_attributes` stores them typed).
     pub fn to_attributes(&self) -> BTreeMap<&'static str, String> {
         let mut a: BTreeMap<&'static str, String> = self
             .identity()
@@ -208,7 +214,9 @@ impl Provenance {
         if let Some((i, p)) = self.first_rejected {
             a.insert("ppm.firstRejected", format!("{i}/{p}"));
         }
-        a.insert("ppm.renderSeconds", format!("{:.3}", self.render_seconds));
+        // Milliseconds, in the shortest form that reads back (stored as a double).
+        let seconds = (self.render_seconds * 1000.0).round() / 1000.0;
+        a.insert("ppm.renderSeconds", seconds.to_string());
         a.insert("ppm.threads", self.threads.clone());
         if let Some(s) = self.shard {
             a.insert("ppm.shard", s.to_string());
@@ -299,6 +307,7 @@ impl Provenance {
             threads: text("ppm.threads")?,
             shard,
             crop: attributes.get("ppm.crop").cloned(),
+            camera: None,
         })
     }
 }

@@ -216,6 +216,10 @@ pub fn run(args: &RenderArgs, interrupt: &Interrupt) -> Result<Outcome> {
         );
     }
     let mut provenance = start.provenance;
+    provenance.camera = Some(crate::camera_matrices::CameraMatrices::new(
+        &scene.camera,
+        scene.origin.as_dvec3(),
+    ));
     if cropped {
         provenance.crop = Some(format!(
             "{} {} {} {} of {}x{}",

@@ -4,8 +4,9 @@
 //! into a different image.
 //!
 //! The checksum, attribute `ppm.stateHash` (16 hex digits), is FNV-1a 64 (Fowler, Noll, Vo)
-//! over a canonical byte string: a version tag, the image size, every `ppm.*` text
-//! attribute but the checksum itself (name and value, in name order), then every channel in
+//! over a canonical byte string: a version tag, the image size, every `ppm.*` attribute but
+//! the checksum itself (name and value as stored, in name order; a `string` as its text, a
+//! typed value marked by its type, see `state_attributes`), then every channel in
 //! name order (its name, its sample type, its samples' bits, little-endian). Each FNV-1a step
 //! h = (h xor byte) * p is a bijection of h for a given byte, so a change of any one byte of
 //! the data, or of any attribute, always changes the checksum; the checksum covers R, G, B,
@@ -13,8 +14,9 @@
 //! guards against accidents (a flipped bit, a truncated copy, an edited header), not a
 //! forger. Files written before the checksum load with a warning.
 
+use crate::state_attributes;
 use anyhow::{bail, Result};
-use exr::prelude::FlatSamples;
+use exr::prelude::{AttributeValue, FlatSamples};
 use std::collections::BTreeMap;
 
 /// The attribute holding the checksum.
@@ -42,25 +44,33 @@ impl Fnv {
     }
 }
 
-/// The checksum of a state of `width` x `height` pixels with the text `attributes` (those
+/// The checksum of a state of `width` x `height` pixels with the header `attributes` (those
 /// not starting with `ppm.`, and the checksum itself, are left out) and the `channels` (name
 /// and samples, in any order).
 pub fn state_hash<'a>(
     (width, height): (u32, u32),
-    attributes: impl IntoIterator<Item = (&'a str, &'a str)>,
+    attributes: impl IntoIterator<Item = (&'a str, &'a AttributeValue)>,
     channels: impl IntoIterator<Item = (&'a str, &'a FlatSamples)>,
 ) -> u64 {
     let mut h = Fnv(FNV_OFFSET);
     h.bytes(TAG);
     h.bytes(&width.to_le_bytes());
     h.bytes(&height.to_le_bytes());
-    let attributes: BTreeMap<&str, &str> = attributes
+    let attributes: BTreeMap<&str, &AttributeValue> = attributes
         .into_iter()
         .filter(|(name, _)| name.starts_with("ppm.") && *name != STATE_HASH)
         .collect();
     for (name, value) in attributes {
         h.text(name);
-        h.text(value);
+        // A string as its text (as before types), a typed value after 0xff (never in
+        // UTF-8 text) and its type name.
+        let (kind, bytes) = state_attributes::hash_value(value);
+        if let Some(kind) = kind {
+            h.bytes(&[0xff]);
+            h.text(kind);
+        }
+        h.bytes(&bytes);
+        h.bytes(&[0]);
     }
     let channels: BTreeMap<&str, &FlatSamples> = channels.into_iter().collect();
     for (name, samples) in channels {
@@ -213,7 +223,29 @@ mod tests {
     use super::*;
 
     fn hash_of(attrs: &[(&str, &str)], samples: &FlatSamples) -> u64 {
-        state_hash((2, 1), attrs.iter().copied(), [("R", samples)])
+        let values: Vec<(&str, AttributeValue)> = attrs
+            .iter()
+            .map(|(k, v)| (*k, AttributeValue::Text(exr::prelude::Text::from(*v))))
+            .collect();
+        state_hash(
+            (2, 1),
+            values.iter().map(|(k, v)| (*k, v)),
+            [("R", samples)],
+        )
+    }
+
+    /// A typed value hashes apart from the same text, and from another type of it.
+    #[test]
+    fn typed_attributes_hash_apart_from_their_text() {
+        let samples = FlatSamples::U32(vec![1, 2]);
+        let hash =
+            |v: AttributeValue| state_hash((2, 1), [("ppm.iterations", &v)], [("R", &samples)]);
+        let text = hash(AttributeValue::Text(exr::prelude::Text::from("3")));
+        let int = hash(AttributeValue::I32(3));
+        let float = hash(AttributeValue::F32(f32::from_bits(3)));
+        assert!(text != int && int != float && text != float);
+        assert_eq!(text, hash_of(&[("ppm.iterations", "3")], &samples));
+        assert_ne!(int, hash(AttributeValue::I32(4)));
     }
 
     #[test]

@@ -14,13 +14,17 @@
 //! renderer's scenes usually writes two. Format 1 files (before `ppm.sumWords`) hold all four
 //! words, and are read as they are.
 //!
-//! The file is written uncompressed: the low words of the sums and the f32 image are noise
-//! in their low bits, which RLE (the image's compression before the state) does not shrink
-//! (at 512x512 it saved 1.4% of the bytes and took 3.5 times as long as no compression; ZIP
-//! saved 18% and took 15 times as long; docs/performance.md).
+//! The `ppm.*` attributes are stored with their EXR types (`state_attributes`), and the
+//! camera as pbrt-v4's `worldToCamera` and `worldToNDC` (`camera_matrices`). The file is
+//! ZIP-compressed (16 lines a block, lossless: every channel reads back bit for bit); the
+//! low words of the sums and the f32 image are noise in their low bits, so it saves less
+//! than on a picture (docs/performance.md has the sizes and times). Files written before
+//! (uncompressed or RLE, every attribute a string) read as they are.
 
+use crate::camera_matrices::CameraMatrices;
 use crate::output::{self, PendingFile};
 use crate::provenance::Provenance;
+use crate::state_attributes;
 use crate::state_check::{self, HashCheck};
 use anyhow::{bail, Context, Result};
 use exr::prelude::{
@@ -37,6 +41,13 @@ const SUM_PREFIX: &str = "ppm.sum.";
 /// The attribute giving how many u32 words of each sum are written (state format 2).
 const SUM_WORDS: &str = "ppm.sumWords";
 const PIXEL_PREFIX: &str = "ppm.pixel.";
+/// pbrt-v4's names of the camera matrices (standard OpenEXR attributes, type m44f).
+pub const WORLD_TO_CAMERA: &str = "worldToCamera";
+pub const WORLD_TO_NDC: &str = "worldToNDC";
+
+/// How the state EXR is encoded: ZIP, 16 scan lines a block (OpenEXR's ZIP_COMPRESSION),
+/// lossless.
+const COMPRESSED: Encoding = Encoding::SMALL_LOSSLESS;
 
 /// A render's saved state, as read back.
 pub struct SavedRender {
@@ -91,24 +102,38 @@ pub fn pending(
     };
     let mut text = provenance.to_attributes();
     text.insert(SUM_WORDS, words.to_string());
+    let typed: BTreeMap<&str, AttributeValue> = text
+        .iter()
+        .map(|(k, v)| (*k, state_attributes::to_exr(k, v)))
+        .collect();
     let hash = state_check::state_hash(
         (image.width, image.height),
-        text.iter().map(|(k, v)| (*k, v.as_str())),
+        typed.iter().map(|(k, v)| (*k, v)),
         named
             .iter()
             .map(|(name, c)| (name.as_str(), &c.sample_data)),
     );
-    text.insert(state_check::STATE_HASH, state_check::format_hash(hash));
-    for (name, value) in text {
+    for (name, value) in typed {
+        attributes.other.insert(Text::from(name), value);
+    }
+    attributes.other.insert(
+        Text::from(state_check::STATE_HASH),
+        AttributeValue::Text(Text::from(state_check::format_hash(hash).as_str())),
+    );
+    if let Some(camera) = &provenance.camera {
         attributes.other.insert(
-            Text::from(name),
-            AttributeValue::Text(Text::from(value.as_str())),
+            Text::from(WORLD_TO_CAMERA),
+            AttributeValue::Matrix4x4(camera.world_to_camera),
+        );
+        attributes.other.insert(
+            Text::from(WORLD_TO_NDC),
+            AttributeValue::Matrix4x4(camera.world_to_ndc),
         );
     }
     let layer = Layer::new(
         (image.width as usize, image.height as usize),
         attributes,
-        Encoding::UNCOMPRESSED,
+        COMPRESSED,
         AnyChannels::sort(channels.into()),
     );
     let exr_image = ExrImage::from_layer(layer);
@@ -171,16 +196,28 @@ fn read_inner(path: &Path) -> Result<SavedRender> {
         .map_err(|e| anyhow::anyhow!("{e}"))?;
     let layer = &image.layer_data;
     let (width, height) = (layer.size.width() as u32, layer.size.height() as u32);
-    let attributes: BTreeMap<String, String> = layer
-        .attributes
-        .other
+    // Every attribute as text (typed ones as the text they were written from), and the
+    // `ppm.*` ones as stored, for the checksum.
+    let other = &layer.attributes.other;
+    let attributes: BTreeMap<String, String> = other
         .iter()
-        .filter_map(|(k, v)| match v {
-            AttributeValue::Text(t) => Some((k.to_string(), t.to_string())),
-            _ => None,
-        })
+        .filter_map(|(k, v)| Some((k.to_string(), state_attributes::to_text(v)?)))
         .collect();
-    let provenance = Provenance::from_attributes(&attributes, (width, height))?;
+    let stored: Vec<(String, &AttributeValue)> =
+        other.iter().map(|(k, v)| (k.to_string(), v)).collect();
+    let mut provenance = Provenance::from_attributes(&attributes, (width, height))?;
+    let matrix = |name: &str| match other.get(&Text::from(name)) {
+        Some(AttributeValue::Matrix4x4(m)) => Some(*m),
+        _ => None,
+    };
+    if let (Some(world_to_camera), Some(world_to_ndc)) =
+        (matrix(WORLD_TO_CAMERA), matrix(WORLD_TO_NDC))
+    {
+        provenance.camera = Some(CameraMatrices {
+            world_to_camera,
+            world_to_ndc,
+        });
+    }
     let named: Vec<(String, &FlatSamples)> = layer
         .channel_data
         .list
@@ -189,7 +226,7 @@ fn read_inner(path: &Path) -> Result<SavedRender> {
         .collect();
     let hash = state_check::state_hash(
         (width, height),
-        attributes.iter().map(|(k, v)| (k.as_str(), v.as_str())),
+        stored.iter().map(|(k, v)| (k.as_str(), *v)),
         named
             .iter()
             .map(|(name, samples)| (name.as_str(), *samples)),

@@ -5,6 +5,7 @@
 mod common;
 
 use common::*;
+use exr::meta::attribute::AttributeValue;
 use std::collections::BTreeMap;
 use std::path::Path;
 
@@ -22,7 +23,7 @@ fn exr_bits(path: &Path) -> Vec<[u32; 3]> {
         .collect()
 }
 
-/// The text attributes of an EXR's first layer.
+/// The text, int, float and double attributes of an EXR's first layer, as text.
 fn attributes(path: &Path) -> BTreeMap<String, String> {
     let image = exr::prelude::read_all_flat_layers_from_file(path).unwrap();
     image.layer_data[0]
@@ -30,7 +31,10 @@ fn attributes(path: &Path) -> BTreeMap<String, String> {
         .other
         .iter()
         .filter_map(|(k, v)| match v {
-            exr::meta::attribute::AttributeValue::Text(t) => Some((k.to_string(), t.to_string())),
+            AttributeValue::Text(t) => Some((k.to_string(), t.to_string())),
+            AttributeValue::I32(v) => Some((k.to_string(), v.to_string())),
+            AttributeValue::F32(v) => Some((k.to_string(), v.to_string())),
+            AttributeValue::F64(v) => Some((k.to_string(), v.to_string())),
             _ => None,
         })
         .collect()

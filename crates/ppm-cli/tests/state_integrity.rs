@@ -33,7 +33,8 @@ fn merge_refused(dir: &Path, what: &str) -> String {
     err
 }
 
-/// Rewrites the EXR at `path` with its `ppm.*` attributes changed by `edit` (pixels kept).
+/// Rewrites the EXR at `path` with its `ppm.*` attributes changed by `edit` (pixels kept),
+/// every one written back as a string (as ppm wrote them before they were typed).
 fn edit_attributes(path: &Path, edit: impl Fn(&mut Vec<(String, String)>)) {
     use exr::prelude::WritableImage;
     let mut image = exr::prelude::read_all_flat_layers_from_file(path).unwrap();
@@ -42,6 +43,9 @@ fn edit_attributes(path: &Path, edit: impl Fn(&mut Vec<(String, String)>)) {
         .iter()
         .filter_map(|(k, v)| match v {
             AttributeValue::Text(t) => Some((k.to_string(), t.to_string())),
+            AttributeValue::I32(v) => Some((k.to_string(), v.to_string())),
+            AttributeValue::F32(v) => Some((k.to_string(), v.to_string())),
+            AttributeValue::F64(v) => Some((k.to_string(), v.to_string())),
             _ => None,
         })
         .filter(|(k, _)| k.starts_with("ppm."))
@@ -63,16 +67,16 @@ fn flipped_bits_in_the_state_data_are_refused() {
     shards(dir.path());
     let path = dir.path().join("part_1.exr");
     let original = std::fs::read(&path).unwrap();
-    // The scanlines (16 pixels of R, G, B and the sum words, u32 or f32 each, behind an
-    // 8-byte line header) and their offset table end the file.
+    // The offset table (one u64 a block of scan lines, the first pointing just past the
+    // table) and the compressed blocks end the file.
     let (_, _, _) = read_exr(&path);
-    let image = exr::prelude::read_all_flat_layers_from_file(&path).unwrap();
-    let layer = &image.layer_data[0];
-    let (width, height) = (layer.size.width(), layer.size.height());
-    let channels = layer.channel_data.list.len();
-    let data = height * (8 + width * channels * 4) + height * 8;
-    assert!(data < original.len());
-    let start = original.len() - data;
+    let meta = exr::meta::MetaData::read_from_file(&path, false).unwrap();
+    let blocks = meta.headers[0].chunk_count;
+    let u64_at = |at: usize| u64::from_le_bytes(original[at..at + 8].try_into().unwrap());
+    let start = (0..original.len() - 8)
+        .find(|&at| u64_at(at) as usize == at + 8 * blocks)
+        .expect("the offset table");
+    let data = original.len() - start;
     // 48 flips spread over the data and the table, each a different bit.
     for k in 0..48 {
         let offset = start + k * (data - 1) / 47;
@@ -81,15 +85,15 @@ fn flipped_bits_in_the_state_data_are_refused() {
         std::fs::write(&path, &bytes).unwrap();
         merge_refused(dir.path(), &format!("bit {} of byte {offset}", k % 8));
     }
-    // Every line pointed at the first: each reads the first line's pixels.
+    // Every block pointed at the table itself: each reads the table as pixels.
     let mut bytes = original.clone();
     let table = start;
-    let first: [u8; 8] = bytes[table..table + 8].try_into().unwrap();
-    for line in 1..height {
-        bytes[table + 8 * line..table + 8 * line + 8].copy_from_slice(&first);
+    for block in 0..blocks {
+        let at = table + 8 * block;
+        bytes[at..at + 8].copy_from_slice(&(table as u64).to_le_bytes());
     }
     std::fs::write(&path, &bytes).unwrap();
-    merge_refused(dir.path(), "offset table pointing at line 0");
+    merge_refused(dir.path(), "offset table pointing at itself");
     // The untouched file merges.
     std::fs::write(&path, &original).unwrap();
     let args = ["merge", "part_0.exr", "part_1.exr", "-o", "merged"];

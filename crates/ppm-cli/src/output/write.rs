@@ -39,8 +39,8 @@ pub fn pending_png(path: &Path, image: &Image) -> Result<PendingFile> {
     pending_png_rgb8(path, image.width, image.height, &to_srgb8(image))
 }
 
-/// Writes an image as a linear RGB f32 OpenEXR file, atomically, without a render state (an
-/// AOV; renders write theirs with `state_file`).
+/// Writes an image as a linear RGB f32 OpenEXR file, ZIP-compressed (lossless), atomically,
+/// without a render state (an AOV; renders write theirs with `state_file`).
 pub fn write_exr(path: &Path, image: &Image) -> Result<()> {
     pending_exr(path, image)?.commit()
 }
@@ -51,8 +51,11 @@ fn pending_exr(path: &Path, image: &Image) -> Result<PendingFile> {
         let p = image.get(x as u32, y as u32);
         (p.x, p.y, p.z)
     });
-    let exr_image =
-        ExrImage::from_channels((image.width as usize, image.height as usize), channels);
+    let exr_image = ExrImage::from_encoded_channels(
+        (image.width as usize, image.height as usize),
+        exr::prelude::Encoding::SMALL_LOSSLESS,
+        channels,
+    );
     PendingFile::write(path, |w| {
         exr_image
             .write()
