@@ -41,9 +41,6 @@ const SUM_PREFIX: &str = "ppm.sum.";
 /// The attribute giving how many u32 words of each sum are written (state format 2).
 const SUM_WORDS: &str = "ppm.sumWords";
 const PIXEL_PREFIX: &str = "ppm.pixel.";
-/// pbrt-v4's names of the camera matrices (standard OpenEXR attributes, type m44f).
-pub const WORLD_TO_CAMERA: &str = "worldToCamera";
-pub const WORLD_TO_NDC: &str = "worldToNDC";
 
 /// How the state EXR is encoded: ZIP, 16 scan lines a block (OpenEXR's ZIP_COMPRESSION),
 /// lossless.
@@ -120,15 +117,11 @@ pub fn pending(
         Text::from(state_check::STATE_HASH),
         AttributeValue::Text(Text::from(state_check::format_hash(hash).as_str())),
     );
+    // Standard OpenEXR attributes: the exr crate writes them under their names
+    // (`worldToCamera`, `worldToNDC`) from its own fields, and refuses them as custom ones.
     if let Some(camera) = &provenance.camera {
-        attributes.other.insert(
-            Text::from(WORLD_TO_CAMERA),
-            AttributeValue::Matrix4x4(camera.world_to_camera),
-        );
-        attributes.other.insert(
-            Text::from(WORLD_TO_NDC),
-            AttributeValue::Matrix4x4(camera.world_to_ndc),
-        );
+        attributes.world_to_camera = Some(camera.world_to_camera);
+        attributes.world_to_normalized_device = Some(camera.world_to_ndc);
     }
     let layer = Layer::new(
         (image.width as usize, image.height as usize),
@@ -206,13 +199,10 @@ fn read_inner(path: &Path) -> Result<SavedRender> {
     let stored: Vec<(String, &AttributeValue)> =
         other.iter().map(|(k, v)| (k.to_string(), v)).collect();
     let mut provenance = Provenance::from_attributes(&attributes, (width, height))?;
-    let matrix = |name: &str| match other.get(&Text::from(name)) {
-        Some(AttributeValue::Matrix4x4(m)) => Some(*m),
-        _ => None,
-    };
-    if let (Some(world_to_camera), Some(world_to_ndc)) =
-        (matrix(WORLD_TO_CAMERA), matrix(WORLD_TO_NDC))
-    {
+    if let (Some(world_to_camera), Some(world_to_ndc)) = (
+        layer.attributes.world_to_camera,
+        layer.attributes.world_to_normalized_device,
+    ) {
         provenance.camera = Some(CameraMatrices {
             world_to_camera,
             world_to_ndc,
