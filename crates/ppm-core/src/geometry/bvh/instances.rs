@@ -144,7 +144,7 @@ impl Instances {
         let mut placed_triangles = 0u64;
         for (i, p) in placements.iter().enumerate() {
             let to_world = DAffine3::from_mat4(p.to_world);
-            let linear = DMat3::from(to_world.matrix3);
+            let linear = to_world.matrix3;
             let det = linear.determinant();
             if !(det.is_finite() && det != 0.0 && to_world.translation.is_finite()) {
                 return Err(invalid(
