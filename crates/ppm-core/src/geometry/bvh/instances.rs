@@ -27,7 +27,7 @@ use super::wide::{Node, LEAF, WIDTH};
 use super::Geometry;
 use crate::geometry::{Hit, Ray, TriangleMesh};
 use crate::SceneError;
-use glam::{Affine3A, DAffine3, DMat3, DMat4, DVec3, Mat3A, Vec2, Vec3, Vec3A};
+use glam::{Affine3A, DAffine3, DMat4, DVec3, Mat3A, Vec2, Vec3, Vec3A};
 
 /// One placement of a shared mesh, as the scene builder hands it over.
 #[derive(Clone, Copy, Debug, PartialEq)]
