@@ -72,7 +72,7 @@ pub fn add_instance(
         }
     };
     p.finish()?;
-    if !groups.built.contains_key(&group) {
+    if let std::collections::hash_map::Entry::Vacant(slot) = groups.built.entry(group) {
         let g = Props::new(tree, group);
         let mut built = Group::default();
         for shape in g.objects("shape") {
@@ -89,7 +89,7 @@ pub fn add_instance(
             }
         }
         g.finish()?;
-        groups.built.insert(group, built);
+        slot.insert(built);
     }
     let built = &groups.built[&group];
     for &mesh in &built.meshes {
