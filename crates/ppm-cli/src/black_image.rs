@@ -209,7 +209,7 @@ pub fn explain(image: &Image, facts: &RenderFacts<'_>) -> Vec<String> {
         return lines;
     }
     let geometry = &facts.scene.geometry;
-    if geometry.triangle_count() + geometry.sphere_count() == 0 {
+    if geometry.triangle_count() + geometry.sphere_count() + geometry.instance_count() == 0 {
         lines.push(format!(
             "{file} has no geometry (`objects:` is empty, or its meshes have no triangle of \
              nonzero area): nothing can be lit or seen"

@@ -2,12 +2,12 @@
 
 use crate::bsdf::{Bsdf, BsdfFlags};
 use crate::camera::Camera;
-use crate::geometry::{Geometry, Hit, Ray, Sphere, TriangleMesh};
+use crate::geometry::{Geometry, Hit, MeshInstance, Ray, Sphere, TriangleMesh};
 use crate::light::{EmissionSample, Light, LightKind, PointLight};
 use crate::material::Material;
 use crate::sampling::Distribution1D;
 use crate::SceneError;
-use glam::{Vec2, Vec3};
+use glam::{DMat3, DMat4, Vec2, Vec3};
 
 /// Render defaults a scene file may carry (`render:` in scene format v1).
 #[derive(Clone, Copy, PartialEq)]
@@ -84,6 +84,11 @@ pub struct SceneBuilder {
     pub materials: Vec<Material>,
     pub meshes: Vec<TriangleMesh>,
     pub spheres: Vec<Sphere>,
+    /// Meshes placed by [`SceneBuilder::instances`] (in their object space), each stored
+    /// once however often it is placed.
+    pub instanced_meshes: Vec<TriangleMesh>,
+    /// Placements of `instanced_meshes` (see [`SceneBuilder::add_instance`]).
+    pub instances: Vec<MeshInstance>,
     /// The lights that are not emissive geometry (point, spot and directional lights), in the order of
     /// the scene file's `lights:` list; area lights come from the materials' emission.
     pub lights: Vec<Light>,
@@ -103,6 +108,8 @@ impl SceneBuilder {
             materials: Vec::new(),
             meshes: Vec::new(),
             spheres: Vec::new(),
+            instanced_meshes: Vec::new(),
+            instances: Vec::new(),
             lights: Vec::new(),
             defaults: RenderDefaults::default(),
             world_offset: Vec3::ZERO,
@@ -125,16 +132,34 @@ impl SceneBuilder {
         self.spheres.push(sphere);
     }
 
+    /// Adds a mesh (in its object space) to be placed by [`SceneBuilder::add_instance`], and
+    /// returns its index. Not rendered until placed.
+    pub fn add_instanced_mesh(&mut self, mesh: TriangleMesh) -> u32 {
+        self.instanced_meshes.push(mesh);
+        self.instanced_meshes.len() as u32 - 1
+    }
+
+    /// Places instanced mesh `mesh` by the affine object-to-world transform `to_world`,
+    /// without copying its triangles (a two-level BVH; see `geometry/bvh/instances.rs`).
+    /// A mesh with an emissive material is copied into the flat level instead, one copy
+    /// per placement, so that each placement is an area light of its own area.
+    pub fn add_instance(&mut self, mesh: u32, to_world: DMat4) {
+        self.instances.push(MeshInstance { mesh, to_world });
+    }
+
     /// True if the scene has a light: a non-area light, or an emissive material on a sphere
     /// or a triangle. The importers warn of a black image without one.
     pub fn has_light(&self) -> bool {
         let emits = |m: u32| self.materials[m as usize].is_emissive();
+        let placed = |i: usize| self.instances.iter().any(|p| p.mesh as usize == i);
         !self.lights.is_empty()
             || self.spheres.iter().any(|s| emits(s.material))
             || self
                 .meshes
                 .iter()
                 .any(|mesh| mesh.materials.iter().any(|&m| emits(m)))
+            || (self.instanced_meshes.iter().enumerate())
+                .any(|(i, mesh)| placed(i) && mesh.materials.iter().any(|&m| emits(m)))
     }
 
     /// Adds a light that is not emissive geometry (a point, spot or directional light). An area light
@@ -168,17 +193,32 @@ impl SceneBuilder {
         for l in &mut self.lights {
             l.translate(-origin);
         }
+        // Placements move with the rest: the translation composed in f64, so that an
+        // identity placement stays exactly the identity when the camera is at the origin.
+        if origin != Vec3::ZERO {
+            let shift = DMat4::from_translation(-origin.as_dvec3());
+            for p in &mut self.instances {
+                p.to_world = shift * p.to_world;
+            }
+        }
         self.camera = self.camera.with_position(Vec3::ZERO);
         let n_mat = self.materials.len() as u32;
-        for m in self.meshes.iter().flat_map(|m| m.materials.iter()) {
+        let all_meshes = self.meshes.iter().chain(&self.instanced_meshes);
+        for m in all_meshes.flat_map(|m| m.materials.iter()) {
             if *m >= n_mat {
                 return Err(SceneError::MissingMaterial(*m));
             }
         }
+        self.flatten_emissive_instances()?;
         if let Some(s) = self.spheres.iter().find(|s| s.material >= n_mat) {
             return Err(SceneError::MissingMaterial(s.material));
         }
-        let geometry = Geometry::new(&self.meshes, &self.spheres);
+        let geometry = Geometry::with_instances(
+            &self.meshes,
+            &self.spheres,
+            &self.instanced_meshes,
+            &self.instances,
+        )?;
         // Lights that need the scene's extent (a directional light's disk of origins) take
         // it now, before their power is checked and used for light selection.
         for l in &mut self.lights {
@@ -277,6 +317,38 @@ impl SceneBuilder {
 }
 
 impl SceneBuilder {
+    /// Copies the placements of emissive instanced meshes into the flat level (one mesh per
+    /// placement, moved as `ppm_scene`'s `place_mesh` moves one: points by M, shading
+    /// normals by M^-T, the winding reversed for a mirroring M so the emitting side is the
+    /// transformed one) and drops them from the instances: each copy is then an area light
+    /// with its own area and power, which light sampling and photon emission need.
+    fn flatten_emissive_instances(&mut self) -> Result<(), SceneError> {
+        let materials = &self.materials;
+        let emissive: Vec<bool> = (self.instanced_meshes.iter())
+            .map(|mesh| (mesh.materials.iter()).any(|&m| materials[m as usize].is_emissive()))
+            .collect();
+        if !emissive.iter().any(|&e| e) {
+            return Ok(());
+        }
+        let mut kept = Vec::with_capacity(self.instances.len());
+        for (i, p) in self.instances.iter().enumerate() {
+            match emissive.get(p.mesh as usize) {
+                Some(true) => {
+                    let mut mesh = self.instanced_meshes[p.mesh as usize].clone();
+                    place(&mut mesh, p.to_world).map_err(|why| SceneError::InvalidValue {
+                        field: format!("instance {i}"),
+                        value: format!("{:?}", p.to_world),
+                        why: why.into(),
+                    })?;
+                    self.meshes.push(mesh);
+                }
+                _ => kept.push(*p),
+            }
+        }
+        self.instances = kept;
+        Ok(())
+    }
+
     /// A light named for an error message: its model and primitive and material (area
     /// lights), or its model, `index` in the builder's list and what sets its power.
     fn describe_light(&self, light: &Light, index: Option<usize>, geometry: &Geometry) -> String {
@@ -301,6 +373,34 @@ impl SceneBuilder {
             (None, None) => format!("{} ({})", light.name(), light.describe()),
         }
     }
+}
+
+/// Moves `mesh` by the affine `m` in double precision: points by `m`, shading normals by its
+/// inverse transpose, and the winding reversed when `m` mirrors (det < 0), so that the
+/// geometric normal cross(v1 - v0, v2 - v0) is the transformed one (cross(M a, M b) =
+/// det(M) M^-T (a x b)), as an instance's hit has it.
+fn place(mesh: &mut TriangleMesh, m: DMat4) -> Result<(), &'static str> {
+    let linear = DMat3::from_mat4(m);
+    let det = linear.determinant();
+    if !(det.is_finite() && det != 0.0) {
+        return Err("the transform is singular or not finite");
+    }
+    for x in &mut mesh.positions {
+        *x = m.transform_point3(x.as_dvec3()).as_vec3();
+    }
+    if mesh.positions.iter().any(|x| !x.is_finite()) {
+        return Err("the transform takes the mesh out of single-precision range");
+    }
+    let normal_matrix = linear.inverse().transpose();
+    for n in &mut mesh.normals {
+        *n = (normal_matrix * n.as_dvec3()).normalize_or_zero().as_vec3();
+    }
+    if det < 0.0 {
+        for t in &mut mesh.indices {
+            t.swap(1, 2);
+        }
+    }
+    Ok(())
 }
 
 impl Scene {
@@ -440,7 +540,8 @@ impl Scene {
         };
         let g = &self.geometry;
         let triangles = g.triangle_count();
-        (0..triangles).any(|i| specular(g.triangle(i as u32).1))
+        g.instance_materials().iter().any(|&m| specular(m))
+            || (0..triangles).any(|i| specular(g.triangle(i as u32).1))
             || (0..g.sphere_count()).any(|i| specular(g.sphere((triangles + i) as u32).material))
     }
 

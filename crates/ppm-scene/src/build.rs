@@ -5,10 +5,11 @@ use crate::error::LoadError;
 use crate::fov::{focal_length_fov, vertical_fov, FovAxis};
 use crate::materials;
 use crate::obj::{self, ObjMaterials};
-use crate::object_transform::object_matrix;
+use crate::object_transform::{object_matrix, TransformStep};
 use crate::placement::{place_mesh, place_sphere, PlacementError};
 use crate::yaml::{
-    CameraDesc, LightDesc, LightType, MaterialDesc, MaterialType, ObjectDesc, ObjectType, SceneFile,
+    CameraDesc, InstanceDesc, LightDesc, LightType, MaterialDesc, MaterialType, ObjectDesc,
+    ObjectType, SceneFile,
 };
 use glam::{DMat4, DVec3, Vec3};
 use ppm_core::bsdf::{Bsdf, Phong};
@@ -140,7 +141,17 @@ pub fn build(
         match o.kind {
             ObjectType::Mesh => {
                 let file = o.file.as_deref().ok_or_else(|| need("file"))?;
-                let at = MeshPlacement { origin, placement };
+                let instances = match &o.instances {
+                    Some(list) => {
+                        Some(instance_matrices(list, &o.transform, origin, &field, path)?)
+                    }
+                    None => None,
+                };
+                let at = MeshPlacement {
+                    origin,
+                    placement,
+                    instances,
+                };
                 add_mesh(&mut builder, path, &field, file, material, at, warnings)?;
             }
             ObjectType::Sphere => {
@@ -247,9 +258,10 @@ fn light(l: &LightDesc, field: &str, origin: DVec3, path: &Path) -> Result<Light
         ("rotate", l.rotate.is_some()),
         ("mapping", l.mapping.is_some()),
         ("to_world", l.to_world.is_some()),
+        ("transform", l.transform.is_some()),
     ];
     let allowed: &[&str] = match l.kind {
-        LightType::Point => &["position", "intensity"],
+        LightType::Point => &["position", "intensity", "transform"],
         LightType::Spot => &[
             "position",
             "intensity",
@@ -257,18 +269,42 @@ fn light(l: &LightDesc, field: &str, origin: DVec3, path: &Path) -> Result<Light
             "look_at",
             "cone_angle",
             "falloff_start",
+            "transform",
         ],
-        LightType::Directional => &["direction", "irradiance"],
-        LightType::Environment => &["color", "file", "scale", "rotate", "to_world", "mapping"],
+        LightType::Directional => &["direction", "irradiance", "transform"],
+        LightType::Environment => &[
+            "color",
+            "file",
+            "scale",
+            "rotate",
+            "to_world",
+            "mapping",
+            "transform",
+        ],
     };
     check_fields(path, field, kind, &present, allowed)?;
     let invalid = |name: &str, why: String| LoadError::invalid(path, format!("{field}{name}"), why);
-    // The required fields, each named when missing.
-    let position = || {
-        l.position
-            .as_ref()
-            .map(|p| p.relative_to(origin))
-            .ok_or_else(|| invalid("", format!("a {kind} needs `position`")))
+    // The light's transform, followed by the move to camera-relative coordinates: points by
+    // it (in f64, rounded once), directions by its linear part. Without one, points are
+    // made relative to `origin` and directions kept as written.
+    let placement = match &l.transform {
+        Some(steps) => Some(DMat4::from_translation(-origin) * object_matrix(steps, field, path)?),
+        None => None,
+    };
+    let place_point = |p: DVec3| match placement {
+        Some(m) => m.transform_point3(p).as_vec3(),
+        None => (p - origin).as_vec3(),
+    };
+    let place_direction = |d: DVec3| match placement {
+        Some(m) => m.transform_vector3(d).as_vec3(),
+        None => d.as_vec3(),
+    };
+    // The required fields, each named when missing (a transformed light's position may be
+    // left out: the transform places the origin).
+    let position = || match (&l.position, placement) {
+        (Some(p), _) => Ok(place_point(p.0)),
+        (None, Some(_)) => Ok(place_point(DVec3::ZERO)),
+        (None, None) => Err(invalid("", format!("a {kind} needs `position`"))),
     };
     let intensity = || {
         l.intensity
@@ -277,22 +313,19 @@ fn light(l: &LightDesc, field: &str, origin: DVec3, path: &Path) -> Result<Light
             .ok_or_else(|| invalid("", format!("a {kind} needs `intensity`")))
     };
     match l.kind {
-        LightType::Environment => crate::environment::light(l, field, path),
+        LightType::Environment => crate::environment::light(l, field, path, placement),
         LightType::Point => Ok(Light::Point(PointLight {
             position: position()?,
             intensity: intensity()?,
         })),
         LightType::Directional => {
-            let direction = l
-                .direction
-                .as_ref()
-                .ok_or_else(|| {
-                    invalid(
-                        "",
-                        "a directional light needs `direction` (the way its light travels)".into(),
-                    )
-                })?
-                .value();
+            let direction = l.direction.as_ref().ok_or_else(|| {
+                invalid(
+                    "",
+                    "a directional light needs `direction` (the way its light travels)".into(),
+                )
+            })?;
+            let direction = place_direction(direction.0);
             let irradiance = l
                 .irradiance
                 .as_ref()
@@ -305,8 +338,8 @@ fn light(l: &LightDesc, field: &str, origin: DVec3, path: &Path) -> Result<Light
         LightType::Spot => {
             let (position, intensity) = (position()?, intensity()?);
             let direction = match (&l.direction, &l.look_at) {
-                (Some(d), None) => d.value(),
-                (None, Some(target)) => target.relative_to(origin) - position,
+                (Some(d), None) => place_direction(d.0),
+                (None, Some(target)) => place_point(target.0) - position,
                 (Some(_), Some(_)) => {
                     return Err(invalid(
                         "",
@@ -370,10 +403,55 @@ fn light_type_name(kind: LightType) -> &'static str {
 
 /// Where a mesh file's points go: made relative to `origin` as written, or moved by
 /// `placement` (the object's transform, ending with the move relative to `origin`).
-#[derive(Clone, Copy)]
 struct MeshPlacement {
     origin: DVec3,
     placement: Option<DMat4>,
+    /// `instances:` each placement's whole transform (ending with the move relative to
+    /// `origin`); the mesh is then kept once, in its file's coordinates.
+    instances: Option<Vec<DMat4>>,
+}
+
+/// The transforms of an object's `instances:` list (at `field`): each instance's steps after
+/// the object's own `transform`, then the move relative to `origin` (a translation by exactly
+/// zero when the camera is at the origin, so an instance without steps is the identity).
+fn instance_matrices(
+    list: &[InstanceDesc],
+    object: &Option<Vec<TransformStep>>,
+    origin: DVec3,
+    field: &str,
+    path: &Path,
+) -> Result<Vec<DMat4>, LoadError> {
+    if list.is_empty() {
+        return Err(LoadError::invalid(
+            path,
+            format!("{field}.instances"),
+            "an empty list places the mesh nowhere; leave `instances` out to place it once",
+        ));
+    }
+    let object = match object {
+        Some(steps) => object_matrix(steps, field, path)?,
+        None => DMat4::IDENTITY,
+    };
+    let shift = DMat4::from_translation(-origin);
+    list.iter()
+        .enumerate()
+        .map(|(k, inst)| {
+            let own = match &inst.transform {
+                Some(steps) => object_matrix(steps, &format!("{field}.instances[{k}]"), path)?,
+                None => DMat4::IDENTITY,
+            };
+            let m = shift * own * object;
+            let det = glam::DMat3::from_mat4(m).determinant();
+            if !(det.is_finite() && det != 0.0) {
+                return Err(LoadError::invalid(
+                    path,
+                    format!("{field}.instances[{k}].transform"),
+                    PlacementError::Singular.describe("the transform"),
+                ));
+            }
+            Ok(m)
+        })
+        .collect()
 }
 
 /// Loads an OBJ and adds its meshes, with `material` for everything or its MTL materials.
@@ -386,11 +464,11 @@ fn add_mesh(
     at: MeshPlacement,
     warnings: &mut Vec<String>,
 ) -> Result<(), LoadError> {
-    // With a transform the file's points stay as written until the transform (which ends
-    // with the camera-relative move) takes them to the world.
-    let origin = match at.placement {
-        Some(_) => DVec3::ZERO,
-        None => at.origin,
+    // With a transform (or instances) the file's points stay as written until the
+    // transform (which ends with the camera-relative move) takes them to the world.
+    let origin = match (&at.placement, &at.instances) {
+        (None, None) => at.origin,
+        _ => DVec3::ZERO,
     };
     let obj_path = scene.parent().unwrap_or(Path::new("")).join(file);
     let policy = if material.is_some() {
@@ -428,6 +506,13 @@ fn add_mesh(
     for mut mesh in data.meshes {
         for m in &mut mesh.materials {
             *m = material.unwrap_or(*m + offset);
+        }
+        if let Some(placements) = &at.instances {
+            let k = builder.add_instanced_mesh(mesh);
+            for &m in placements {
+                builder.add_instance(k, m);
+            }
+            continue;
         }
         if let Some(m) = at.placement {
             let normals_ok = place_mesh(&mut mesh, m, false).map_err(|e| {
@@ -557,8 +642,9 @@ fn object_type_name(kind: ObjectType) -> &'static str {
     }
 }
 
-fn object_fields(o: &ObjectDesc) -> [(&'static str, bool); 8] {
+fn object_fields(o: &ObjectDesc) -> [(&'static str, bool); 9] {
     [
+        ("instances", o.instances.is_some()),
         ("material", o.material.is_some()),
         ("file", o.file.is_some()),
         ("center", o.center.is_some()),
@@ -572,7 +658,7 @@ fn object_fields(o: &ObjectDesc) -> [(&'static str, bool); 8] {
 
 fn allowed_object_fields(kind: ObjectType) -> &'static [&'static str] {
     match kind {
-        ObjectType::Mesh => &["file", "material"],
+        ObjectType::Mesh => &["file", "material", "instances"],
         ObjectType::Sphere => &["center", "radius", "material", "inward"],
         ObjectType::Quad => &["corner", "edge_u", "edge_v", "material"],
     }

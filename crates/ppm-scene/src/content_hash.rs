@@ -10,7 +10,8 @@
 //! `Debug` text of the same values), so the fingerprints of scenes saved by earlier
 //! versions are unchanged; a test pins them. A new kind of content adds its own fields only
 //! when present (a spot light writes `SpotLight { ... }` in the list of lights), so scenes
-//! without it keep their fingerprint. Floats are written in Rust's shortest round-trip form,
+//! without it keep their fingerprint (instanced meshes and their placements are written
+//! after the spheres only when there are placements). Floats are written in Rust's shortest round-trip form,
 //! so two scenes hash alike exactly when they hold the same values; comments, whitespace and
 //! file names do not count.
 //!
@@ -23,7 +24,7 @@ use ppm_core::bsdf::{
     ThinDielectric, TwoSided,
 };
 use ppm_core::camera::Camera;
-use ppm_core::geometry::{Sphere, TriangleMesh};
+use ppm_core::geometry::{MeshInstance, Sphere, TriangleMesh};
 use ppm_core::integrator::Algorithm;
 use ppm_core::light::{
     EnvironmentLight, EnvironmentMap, Light, PointLight, SphereLight, SpotLight, TriangleLight,
@@ -43,6 +44,8 @@ pub fn content_hash(builder: &SceneBuilder) -> u64 {
         materials,
         meshes,
         spheres,
+        instanced_meshes,
+        instances,
         lights,
         defaults,
         // Where the builder's coordinates sit in the world: the image does not depend on it.
@@ -56,6 +59,11 @@ pub fn content_hash(builder: &SceneBuilder) -> u64 {
     let textured = materials.iter().any(|m| m.textures.is_some());
     f.list(meshes, |f, m| f.mesh(m, textured));
     f.list(spheres, Fingerprint::sphere);
+    if !instances.is_empty() {
+        f.text("Instanced");
+        f.list(instanced_meshes, |f, m| f.mesh(m, textured));
+        f.list(instances, Fingerprint::instance);
+    }
     f.list(lights, Fingerprint::light);
     f.defaults(defaults);
     f.hash
@@ -407,6 +415,17 @@ impl Fingerprint {
             record
         }
         .end();
+    }
+
+    /// A placement: the mesh's index and the 16 entries of its transform, column by column.
+    fn instance(&mut self, p: &MeshInstance) {
+        let MeshInstance { mesh, to_world } = p;
+        self.record("MeshInstance")
+            .field("mesh", |f| f.u32(*mesh))
+            .field("to_world", |f| {
+                f.list(&to_world.to_cols_array(), |f, x| f.text(&format!("{x:?}")))
+            })
+            .end();
     }
 
     fn sphere(&mut self, s: &Sphere) {

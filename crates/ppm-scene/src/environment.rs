@@ -13,7 +13,15 @@ use std::path::Path;
 use std::sync::Arc;
 
 /// The environment light of `l` (at `field` of the scene file `path`).
-pub(crate) fn light(l: &LightDesc, field: &str, path: &Path) -> Result<Light, LoadError> {
+///
+/// `placement` (the light's `transform`, if any) turns the map after `rotate`; it must be a
+/// rotation (orthonormal, determinant 1): an environment at infinity has no position or size.
+pub(crate) fn light(
+    l: &LightDesc,
+    field: &str,
+    path: &Path,
+    placement: Option<glam::DMat4>,
+) -> Result<Light, LoadError> {
     let invalid = |name: &str, why: String| LoadError::invalid(path, format!("{field}{name}"), why);
     if l.mapping.is_some() && l.file.is_none() {
         return Err(invalid(
@@ -81,6 +89,20 @@ pub(crate) fn light(l: &LightDesc, field: &str, path: &Path) -> Result<Light, Lo
                 return Err(invalid(".rotate.axis", format!("{axis} has no direction")));
             };
             Mat3::from_axis_angle(axis, r.angle.0.to_radians())
+        }
+    };
+    let rotation = match placement {
+        None => rotation,
+        Some(m) => {
+            let r = glam::DMat3::from_mat4(m);
+            let orthonormal = (r * r.transpose()).abs_diff_eq(glam::DMat3::IDENTITY, 1e-6);
+            if !(orthonormal && r.determinant() > 0.0) {
+                return Err(invalid(
+                    ".transform",
+                    "an environment light takes only rotations (no scale, shear or mirror)".into(),
+                ));
+            }
+            r.as_mat3() * rotation
         }
     };
     EnvironmentLight::new(map, scale, rotation)

@@ -128,6 +128,17 @@ pub struct ObjectDesc {
     pub edge_v: Option<Point>,
     /// Steps placing the object, applied in order (any type).
     pub transform: Option<Vec<crate::object_transform::TransformStep>>,
+    /// Placements of a mesh, each by its own transform after the object's: the mesh is
+    /// stored once however many there are (`mesh` only).
+    pub instances: Option<Vec<InstanceDesc>>,
+}
+
+/// One placement in an object's `instances:` list.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct InstanceDesc {
+    /// Steps placing this copy, applied after the object's `transform` (none: the identity).
+    pub transform: Option<Vec<crate::object_transform::TransformStep>>,
 }
 
 /// The light types (lights without geometry).
@@ -175,6 +186,10 @@ pub struct LightDesc {
     pub to_world: Option<Vec<Num<Finite>>>,
     /// How an environment light's `file` maps onto the sphere (default `latlong`).
     pub mapping: Option<MapMapping>,
+    /// Steps placing the light, as an object's `transform`: a point or spot light's position
+    /// (default the origin) by the matrix, a spot or directional light's direction by its
+    /// linear part; an environment's map turned by it (a rotation only), after `rotate`.
+    pub transform: Option<Vec<crate::object_transform::TransformStep>>,
 }
 
 /// The parameterisation of an environment map's image: Mitsuba's latitude-longitude

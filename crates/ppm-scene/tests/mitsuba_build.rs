@@ -311,7 +311,7 @@ fn what_ppm_cannot_render_is_an_error_naming_it_and_its_place() {
         ),
         (
             "\n<shape type=\"instance\"/>",
-            "scene.xml:6: shape `instance` at scene.xml:6 is not supported yet",
+            "scene.xml:6: shape `instance` needs exactly one shapegroup (nested or by <ref>)",
         ),
         (
             "\n<medium type=\"homogeneous\"/>",

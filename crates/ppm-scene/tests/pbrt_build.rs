@@ -90,9 +90,20 @@ fn the_pbrt_cornell_box_is_the_mitsuba_one() {
         assert!(a.dir.abs_diff_eq(b.dir, 1e-6), "{a:?} {b:?}");
     }
     // The same triangles (corners in order, so the same facing) with the same materials.
+    // The pbrt scene places its walls by ObjectInstance: flattened here to compare.
+    let flattened = |b: &SceneBuilder| {
+        let mut meshes = b.meshes.clone();
+        for p in &b.instances {
+            let mut mesh = b.instanced_meshes[p.mesh as usize].clone();
+            ppm_scene::placement::place_mesh(&mut mesh, p.to_world, false).unwrap();
+            meshes.push(mesh);
+        }
+        meshes
+    };
+    assert_eq!(pbrt.instanced_meshes.len(), 1);
+    assert_eq!(pbrt.instances.len(), 3);
     let triangles = |b: &SceneBuilder| {
-        let mut t: Vec<([i64; 9], String, [i64; 3])> = b
-            .meshes
+        let mut t: Vec<([i64; 9], String, [i64; 3])> = flattened(b)
             .iter()
             .flat_map(|m| {
                 m.indices.iter().zip(&m.materials).map(|(t, &mat)| {

@@ -154,12 +154,20 @@ fn includes_are_relative_to_the_including_file_and_cycles_are_errors() {
 }
 
 #[test]
-fn object_instances_are_copies_under_the_instance_transform() {
+fn object_instances_place_one_mesh_under_the_instance_transform() {
     let body = format!(
         "ObjectBegin \"t\"\nTranslate 0 0 1\n{TRIANGLE}ObjectEnd\nTranslate 2 0 0\nObjectInstance \"t\"\nTranslate 2 0 0\nObjectInstance \"t\"\n"
     );
-    let (b, _) = load(&scene(&body)).unwrap();
-    assert_eq!(b.meshes.len(), 2);
+    let (mut b, _) = load(&scene(&body)).unwrap();
+    // One mesh (in the object's space), two placements; flattened to read their corners.
+    assert!(b.meshes.is_empty());
+    assert_eq!(b.instanced_meshes.len(), 1);
+    assert_eq!(b.instances.len(), 2);
+    for p in std::mem::take(&mut b.instances) {
+        let mut mesh = b.instanced_meshes[p.mesh as usize].clone();
+        ppm_scene::placement::place_mesh(&mut mesh, p.to_world, false).unwrap();
+        b.meshes.push(mesh);
+    }
     assert!(close(
         corners(&b, 0),
         [

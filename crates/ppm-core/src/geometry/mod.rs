@@ -2,7 +2,8 @@
 //!
 //! Primitive ids are global: triangles first, in the order their meshes were added (each mesh's
 //! triangles in index order, degenerate ones and exact duplicates of an earlier triangle
-//! skipped), then spheres in the order they were added.
+//! skipped), then spheres in the order they were added, then the triangles of each placement
+//! of an instanced mesh (placement after placement, each mesh's local ids in order).
 
 mod bvh;
 mod mesh;
@@ -11,7 +12,7 @@ mod sphere;
 mod triangle;
 mod triangle_packet;
 
-pub use bvh::{BvhStats, Geometry};
+pub use bvh::{BvhStats, Geometry, MeshInstance};
 pub use mesh::TriangleMesh;
 pub use ray::Ray;
 pub use sphere::Sphere;

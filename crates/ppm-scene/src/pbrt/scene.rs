@@ -39,6 +39,21 @@ pub struct ShapeEntity {
     pub material: MaterialRef,
     /// The `AreaLightSource` in force.
     pub area_light: Option<Rc<Entity>>,
+    /// For a copy made by `ObjectInstance`: which shape of which object it is, and the
+    /// transforms it composes (`ctm` = instance * definition).
+    pub instance: Option<InstanceOf>,
+}
+
+/// A shape as an `ObjectInstance` placed it.
+#[derive(Clone, Debug)]
+pub struct InstanceOf {
+    /// The object's name and the shape's place in it: the key of the shared mesh.
+    pub object: Rc<str>,
+    pub shape: usize,
+    /// The CTM at `ObjectInstance` (world from instance).
+    pub to_world: DMat4,
+    /// The CTM at the shape's definition inside `ObjectBegin` (instance from object).
+    pub definition: DMat4,
 }
 
 /// A `LightSource` and the transform it was declared under.
@@ -80,7 +95,8 @@ pub struct Description {
     pub accelerator: Option<Entity>,
     /// `Option` directives.
     pub options: Vec<Param>,
-    /// Shapes, object instances already expanded into copies.
+    /// Shapes; each `ObjectInstance` adds a copy of its object's shapes, marked with
+    /// [`ShapeEntity::instance`] (the builder places a mesh copy as an instance).
     pub shapes: Vec<ShapeEntity>,
     pub lights: Vec<LightEntity>,
     /// Anonymous materials; index 0 is pbrt's default (`diffuse`, reflectance 0.5).

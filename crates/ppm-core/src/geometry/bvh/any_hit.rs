@@ -21,9 +21,16 @@ use crate::geometry::triangle_packet::TrianglePacket;
 use crate::geometry::Ray;
 
 impl Geometry {
-    /// True if anything blocks the ray within (0, t_max).
+    /// True if anything blocks the ray within (0, t_max): a primitive of the flat level or
+    /// of an instance.
     #[inline]
     pub fn occluded(&self, ray: &Ray) -> bool {
+        self.occluded_flat(ray) || (!self.instances.is_empty() && self.instances.occluded(ray))
+    }
+
+    /// True if a primitive of this level's own BVH (instances left out) blocks the ray.
+    #[inline]
+    pub(super) fn occluded_flat(&self, ray: &Ray) -> bool {
         if self.nodes.is_empty() {
             return false;
         }

@@ -12,7 +12,8 @@
 //! - `build/`: the binned SAH build of the 8-wide tree;
 //! - `wide.rs`: the layout of the 8-wide nodes and leaves;
 //! - `traversal.rs`: the robust slab test and the stack traversal (closest hit);
-//! - `any_hit.rs`: the any-hit traversal, with a stack of bare references.
+//! - `any_hit.rs`: the any-hit traversal, with a stack of bare references;
+//! - `instances.rs`: meshes placed many times by transforms, a second level of BVHs.
 //!
 //! The slab test is robust: the exit distance of every box is scaled by 1 + 2 gamma(3) (Ize
 //! 2013, "Robust BVH Ray Traversal"), which covers the three roundings of (bound - o) / d, and a
@@ -30,6 +31,7 @@
 mod any_hit;
 mod build;
 mod duplicates;
+mod instances;
 mod stats;
 mod traversal;
 mod triangles;
@@ -39,6 +41,8 @@ use super::triangle_packet::TrianglePacket;
 use super::{Hit, Ray, Sphere, Triangle, TriangleMesh};
 use build::Aabb;
 use glam::{DVec3, Vec2, Vec3, Vec3A};
+use instances::Instances;
+pub use instances::MeshInstance;
 use rayon::prelude::*;
 pub use stats::BvhStats;
 use triangles::TriangleAttributes;
@@ -69,6 +73,8 @@ pub struct Geometry {
     /// The traversal stack never holds more entries: WIDTH - 1 per level of the tree (a node
     /// pushes all its children met but the one it descends into), plus one.
     stack_size: usize,
+    /// Meshes placed by transforms, traced after the primitives above (empty if none).
+    instances: Instances,
 }
 
 impl Geometry {
@@ -156,7 +162,36 @@ impl Geometry {
             duplicates,
             bounds,
             stack_size: (WIDTH - 1) * wide.depth + 1,
+            instances: Instances::default(),
         }
+    }
+
+    /// [`Geometry::new`] and, in a second level, the shared `instanced` meshes placed by
+    /// `placements` without copying their triangles (see `instances.rs`). Their ids follow
+    /// the flat level's triangles and spheres, placement after placement. A placement with a
+    /// singular or non-finite transform, or a mesh index out of range, is an error naming it.
+    pub fn with_instances(
+        meshes: &[TriangleMesh],
+        spheres: &[Sphere],
+        instanced: &[TriangleMesh],
+        placements: &[MeshInstance],
+    ) -> Result<Self, crate::SceneError> {
+        let mut geometry = Geometry::new(meshes, spheres);
+        let first = geometry.packed_at.len() + geometry.spheres.len();
+        let first = u32::try_from(first).map_err(|_| crate::SceneError::InvalidValue {
+            field: "geometry".into(),
+            value: first.to_string(),
+            why: "more than 2^32 primitives".into(),
+        })?;
+        geometry.instances = Instances::new(instanced, placements, first)?;
+        if let Some((lo, hi)) = geometry.instances.bounds() {
+            geometry.bounds = if geometry.nodes.is_empty() {
+                (lo, hi)
+            } else {
+                (geometry.bounds.0.min(lo), geometry.bounds.1.max(hi))
+            };
+        }
+        Ok(geometry)
     }
 
     /// Everything the integrators need about the hit at distance `t` on triangle `prim`,
@@ -196,6 +231,15 @@ impl Geometry {
         }
     }
 
+    /// The vertex normals of triangle `prim`, if its mesh has them.
+    #[inline(always)]
+    pub(super) fn vertex_normals(&self, prim: u32) -> Option<[Vec3; 3]> {
+        match self.tri_attributes[prim as usize].normals {
+            u32::MAX => None,
+            k => Some(self.shading_normals[k as usize]),
+        }
+    }
+
     /// Everything the integrators need about the hit at distance `t` on sphere `prim`.
     #[inline(always)]
     pub(super) fn sphere_hit(&self, ray: &Ray, t: f32, prim: u32) -> Hit {
@@ -222,6 +266,9 @@ impl Geometry {
     pub fn texture_uv(&self, hit: &Hit) -> Vec2 {
         let prim = hit.prim as usize;
         let (b1, b2) = (hit.uv.x, hit.uv.y);
+        if prim >= self.packed_at.len() + self.spheres.len() {
+            return self.instances.texture_uv(hit);
+        }
         if prim < self.packed_at.len() {
             match self.tex_coords.get(prim) {
                 Some([t0, t1, t2]) => *t0 * (1.0 - b1 - b2) + *t1 * b1 + *t2 * b2,
@@ -242,7 +289,23 @@ impl Geometry {
         }
     }
 
-    /// Number of triangles kept.
+    /// Number of placements of instanced meshes.
+    pub fn instance_count(&self) -> usize {
+        self.instances.count()
+    }
+
+    /// Triangles over all placements of instanced meshes: what flattening them would store.
+    pub fn instanced_triangle_count(&self) -> u64 {
+        self.instances.placed_triangles()
+    }
+
+    /// The materials of the instanced meshes, each once (ascending).
+    pub fn instance_materials(&self) -> &[u32] {
+        self.instances.materials()
+    }
+
+    /// Number of triangles kept in the flat level (instances not counted; their ids follow
+    /// the spheres').
     pub fn triangle_count(&self) -> usize {
         self.packed_at.len()
     }
@@ -258,7 +321,8 @@ impl Geometry {
     }
 
     /// Bytes held by the geometry and its BVH (nodes, leaves, triangle packets, and the
-    /// per-triangle packet lanes, normals, materials and shading-normal slots), by capacity.
+    /// per-triangle packet lanes, normals, materials and shading-normal slots), by capacity;
+    /// instanced meshes once each, plus their placements and the top-level BVH.
     pub fn memory_bytes(&self) -> usize {
         let bytes = |len: usize, one: usize| len * one;
         bytes(self.nodes.capacity(), size_of::<Node>())
@@ -273,6 +337,7 @@ impl Geometry {
             + bytes(self.shading_normals.capacity(), size_of::<[Vec3; 3]>())
             + bytes(self.tex_coords.capacity(), size_of::<[Vec2; 3]>())
             + bytes(self.spheres.capacity(), size_of::<Sphere>())
+            + self.instances.memory_bytes()
     }
 
     /// Triangles dropped as exact duplicates of an earlier one (same three vertices, bit for
@@ -298,7 +363,7 @@ impl Geometry {
         &self.spheres[prim as usize - self.packed_at.len()]
     }
 
-    /// World-space bounds (min, max) of all primitives.
+    /// World-space bounds (min, max) of all primitives, instances included.
     pub fn bounds(&self) -> (Vec3, Vec3) {
         self.bounds
     }

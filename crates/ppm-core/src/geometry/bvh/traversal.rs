@@ -18,7 +18,7 @@ pub(super) const STACK_SIZE: usize = 64;
 pub(super) const SMALL_STACK_SIZE: usize = 16;
 
 /// Box exits are scaled by this (Ize 2013: three roundings in (bound - o) * inv_dir).
-const SLAB_SCALE: f32 = 1.0 + 2.0 * gamma(3);
+pub(super) const SLAB_SCALE: f32 = 1.0 + 2.0 * gamma(3);
 
 /// Primitive tests get their bound widened by this: the final comparison is on the returned t
 /// itself (`Closest::improves`, or `t < t_max` for shadow rays), so that exactly equal
@@ -28,17 +28,17 @@ pub(super) const WIDEN: f32 = 1.0 + 4.0 * f32::EPSILON;
 /// The closest candidate found so far: distance, global id, barycentrics, and for a
 /// triangle found by the traversal its packet and lane (whose vertices the hit reads).
 #[derive(Clone, Copy)]
-struct Closest<'a> {
-    t: f32,
-    id: u32,
-    uv: Vec2,
-    found: bool,
-    packet: Option<(&'a TrianglePacket, usize)>,
+pub(super) struct Closest<'a> {
+    pub(super) t: f32,
+    pub(super) id: u32,
+    pub(super) uv: Vec2,
+    pub(super) found: bool,
+    pub(super) packet: Option<(&'a TrianglePacket, usize)>,
 }
 
 impl<'a> Closest<'a> {
     /// Nothing found yet within `t_max`.
-    fn new(t_max: f32) -> Self {
+    pub(super) fn new(t_max: f32) -> Self {
         Closest {
             t: t_max,
             id: 0,
@@ -140,14 +140,40 @@ impl TraversalRay {
 }
 
 impl Geometry {
-    /// Closest hit along the ray. Always inlined: the passes call it in their hot loops,
-    /// and whether LLVM inlines it otherwise depends on how the crate is split into codegen
-    /// units.
+    /// Closest hit along the ray: the primitives of the flat level, then the instances (whose
+    /// ids all come after the flat level's, so a flat hit wins a tie). Always inlined: the
+    /// passes call it in their hot loops, and whether LLVM inlines it otherwise depends on
+    /// how the crate is split into codegen units.
     #[inline(always)]
     pub fn intersect(&self, ray: &Ray) -> Option<Hit> {
+        let hit = self.intersect_flat(ray);
+        if self.instances.is_empty() {
+            hit
+        } else {
+            self.instances.intersect(ray, hit)
+        }
+    }
+
+    /// Closest hit among the primitives of this level's own BVH (instances left out).
+    #[inline(always)]
+    pub(super) fn intersect_flat(&self, ray: &Ray) -> Option<Hit> {
         let tr = TraversalRay::new(ray);
-        let mut best = Closest::new(ray.t_max);
-        self.traverse(&tr, ray.t_max, |packets, spheres, t_max| {
+        let best = self.closest(&tr, ray.t_max);
+        match (best.found, best.packet) {
+            (false, _) => None,
+            (true, Some((packet, lane))) => {
+                Some(self.triangle_hit(best.t, best.id, best.uv, packet.vertices(lane)))
+            }
+            (true, None) => Some(self.sphere_hit(ray, best.t, best.id)),
+        }
+    }
+
+    /// The closest candidate in (0, t_max) of this level's own BVH, before its hit record
+    /// is made (an instance makes it in world space).
+    #[inline(always)]
+    pub(super) fn closest(&self, tr: &TraversalRay, t_max: f32) -> Closest<'_> {
+        let mut best = Closest::new(t_max);
+        self.traverse(tr, t_max, |packets, spheres, t_max| {
             for packet in packets {
                 let bound = best.t * WIDEN;
                 packet.intersect(&tr.shear, &tr.packet, bound, |lane, t, b1, b2| {
@@ -162,13 +188,7 @@ impl Geometry {
             *t_max = best.t;
             false
         });
-        match (best.found, best.packet) {
-            (false, _) => None,
-            (true, Some((packet, lane))) => {
-                Some(self.triangle_hit(best.t, best.id, best.uv, packet.vertices(lane)))
-            }
-            (true, None) => Some(self.sphere_hit(ray, best.t, best.id)),
-        }
+        best
     }
 
     /// The triangle packets of a leaf.

@@ -6,6 +6,7 @@
 mod bsdf;
 mod emitter;
 mod environment;
+mod instance;
 mod medium;
 mod sensor;
 pub mod shape;
@@ -55,9 +56,30 @@ pub fn build(tree: &SceneTree, warnings: &mut Vec<String>) -> Result<SceneBuilde
     let defined = root.objects("bsdf");
     root.objects("texture");
     let mut materials = Materials::default();
+    let mut groups = instance::Groups::default();
     for shape in root.objects("shape") {
-        add_shape(tree, shape, &mut builder, &mut materials, warnings)?;
+        match tree.objects[shape].plugin.as_str() {
+            // A shape group renders only where an `instance` places it.
+            "shapegroup" => groups.declared(shape),
+            "instance" => instance::add_instance(
+                tree,
+                shape,
+                &mut builder,
+                &mut materials,
+                &mut groups,
+                warnings,
+            )?,
+            _ => add_shape(
+                tree,
+                shape,
+                &mut builder,
+                &mut materials,
+                Target::Scene,
+                warnings,
+            )?,
+        }
     }
+    groups.warn_unplaced(tree, warnings);
     // An area emitter defined at the top level with an id and given to shapes by `<ref>`
     // (mitsuba-data's `cbox-rgb.xml`) is theirs: it lights them, not the scene.
     let in_shapes: HashSet<usize> = tree
@@ -118,11 +140,19 @@ struct Materials {
 /// Mitsuba's BSDF for a shape that names none and does not emit: diffuse, reflectance 0.5.
 const DEFAULT_REFLECTANCE: f32 = 0.5;
 
+/// Where a shape's geometry goes: into the scene, or (a shape inside a `shapegroup`) into
+/// the group's instanced meshes and object-space spheres.
+enum Target<'a> {
+    Scene,
+    Group(&'a mut instance::Group),
+}
+
 fn add_shape(
     tree: &SceneTree,
     index: usize,
     builder: &mut SceneBuilder,
     materials: &mut Materials,
+    target: Target<'_>,
     warnings: &mut Vec<String>,
 ) -> Result<(), LoadError> {
     let p = Props::new(tree, index);
@@ -188,15 +218,25 @@ fn add_shape(
         let name = format!("{} (with media, {})", m.name, tree.objects[index].location);
         builder.add_material(m.named(name).with_medium(media))
     };
-    match geometry {
-        Geometry::Sphere(mut s) => {
+    match (geometry, target) {
+        (Geometry::Sphere(mut s), target) => {
             s.material = material;
-            builder.add_sphere(s);
+            match target {
+                Target::Scene => builder.add_sphere(s),
+                Target::Group(g) => g.spheres.push(s),
+            }
         }
-        Geometry::Meshes(meshes) => {
+        (Geometry::Meshes(meshes), target) => {
+            let mut group = match target {
+                Target::Group(g) => Some(g),
+                Target::Scene => None,
+            };
             for mut mesh in meshes {
                 mesh.materials.iter_mut().for_each(|m| *m = material);
-                builder.add_mesh(mesh);
+                match group.as_mut() {
+                    Some(g) => g.meshes.push(builder.add_instanced_mesh(mesh)),
+                    None => builder.add_mesh(mesh),
+                }
             }
         }
     }

@@ -23,7 +23,7 @@ use std::collections::HashMap;
 /// pbrt-v4's default path depth (its default integrator is `volpath`, maxdepth 5).
 const DEFAULT_MAX_DEPTH: i64 = 5;
 
-/// Most triangles a scene may expand to (instances are copied).
+/// Most triangles a scene may hold (an instanced mesh counts once).
 pub const MAX_TRIANGLES: usize = 1 << 28;
 
 /// Assembles the scene `desc` describes.
@@ -46,8 +46,23 @@ pub fn build(desc: &Description, warnings: &mut Vec<String>) -> Result<SceneBuil
     let mut materials: HashMap<MaterialKey, (u32, Textured)> = HashMap::new();
     let mut cache = PlyCache::default();
     let mut triangles = 0usize;
+    // The shared mesh of each (object, shape) an `ObjectInstance` placed, by its index.
+    let mut instanced: HashMap<(std::rc::Rc<str>, usize), u32> = HashMap::new();
     for s in &desc.shapes {
-        let geometry = shape::geometry(s, mirror * s.ctm, &desc.main_folder, &mut cache, warnings)?;
+        // A mesh inside an object is built once in the object's space and placed by each
+        // `ObjectInstance`'s CTM (a sphere is copied: it stays an analytic sphere).
+        let instance = s.instance.as_ref().filter(|_| s.entity.kind != "sphere");
+        if let Some(i) = instance {
+            if let Some(&k) = instanced.get(&(i.object.clone(), i.shape)) {
+                builder.add_instance(k, mirror * i.to_world);
+                continue;
+            }
+        }
+        let to_world = match instance {
+            Some(i) => i.definition,
+            None => mirror * s.ctm,
+        };
+        let geometry = shape::geometry(s, to_world, &desc.main_folder, &mut cache, warnings)?;
         let (index, (bsdf, textures)) =
             material_of(desc, s, &mut materials, &mut builder, warnings)?;
         let has_uv = match &geometry {
@@ -88,11 +103,18 @@ pub fn build(desc: &Description, warnings: &mut Vec<String>) -> Result<SceneBuil
                 triangles += mesh.indices.len();
                 if triangles > MAX_TRIANGLES {
                     return Err(s.entity.loc.error(format!(
-                        "the scene has more than {MAX_TRIANGLES} triangles (instances are copied)"
+                        "the scene has more than {MAX_TRIANGLES} triangles (an instanced mesh counts once)"
                     )));
                 }
                 mesh.materials.iter_mut().for_each(|m| *m = material);
-                builder.add_mesh(mesh);
+                match instance {
+                    Some(i) => {
+                        let k = builder.add_instanced_mesh(mesh);
+                        instanced.insert((i.object.clone(), i.shape), k);
+                        builder.add_instance(k, mirror * i.to_world);
+                    }
+                    None => builder.add_mesh(mesh),
+                }
             }
         }
     }

@@ -176,6 +176,7 @@ impl Parser {
                     reverse_orientation: self.state.reverse_orientation,
                     material: self.state.material.clone(),
                     area_light: self.state.area_light.clone(),
+                    instance: None,
                 };
                 match &mut self.object {
                     Some((name, _, shapes)) => {
@@ -228,7 +229,8 @@ impl Parser {
                     .ok_or_else(|| nloc.error(format!("ObjectInstance: no object \"{name}\"")))?
                     .clone();
                 let ctm = self.state.ctm;
-                self.add_shapes(shapes.into_iter(), Some(ctm))?;
+                let object: Rc<str> = name.into();
+                self.add_shapes(shapes.into_iter(), Some((ctm, object)))?;
             }
             "LightSource" => {
                 self.require_world(d, &loc, true)?;

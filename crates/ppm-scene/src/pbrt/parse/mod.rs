@@ -304,20 +304,27 @@ impl Parser {
     }
 
     /// Adds shapes; an instance's copies are moved by the CTM at `ObjectInstance` (world =
-    /// instance CTM * CTM at the shape's definition, as pbrt-v4 composes them).
+    /// instance CTM * CTM at the shape's definition, as pbrt-v4 composes them) and marked
+    /// with the object they come from, so that the builder stores each mesh once.
     fn add_shapes(
         &mut self,
         shapes: impl Iterator<Item = ShapeEntity>,
-        instance: Option<DMat4>,
+        instance: Option<(DMat4, std::rc::Rc<str>)>,
     ) -> Result<(), LoadError> {
-        for mut s in shapes {
+        for (k, mut s) in shapes.enumerate() {
             if self.desc.shapes.len() >= MAX_SHAPES {
                 return Err(s.entity.loc.error(format!(
                     "more than {MAX_SHAPES} shapes (instances count once per copy)"
                 )));
             }
-            if let Some(m) = instance {
-                s.ctm = m * s.ctm;
+            if let Some((m, object)) = &instance {
+                s.instance = Some(crate::pbrt::scene::InstanceOf {
+                    object: object.clone(),
+                    shape: k,
+                    to_world: *m,
+                    definition: s.ctm,
+                });
+                s.ctm = *m * s.ctm;
             }
             self.desc.shapes.push(s);
         }
