@@ -327,6 +327,19 @@ impl SceneBuilder {
         let emissive: Vec<bool> = (self.instanced_meshes.iter())
             .map(|mesh| (mesh.materials.iter()).any(|&m| materials[m as usize].is_emissive()))
             .collect();
+        self.flatten_instances_of(&emissive)
+    }
+
+    /// Copies every placement into the flat level, as [`SceneBuilder::build`] copies those
+    /// of emissive meshes: the scene of copies that the instances stand for (what a writer
+    /// without instances writes).
+    pub fn flatten_instances(&mut self) -> Result<(), SceneError> {
+        self.flatten_instances_of(&vec![true; self.instanced_meshes.len()])
+    }
+
+    /// Copies the placements of the instanced meshes marked in `copy` into the flat level.
+    fn flatten_instances_of(&mut self, copy: &[bool]) -> Result<(), SceneError> {
+        let emissive = copy;
         if !emissive.iter().any(|&e| e) {
             return Ok(());
         }

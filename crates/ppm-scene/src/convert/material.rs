@@ -1,7 +1,8 @@
 //! Writing ppm-core materials back as scene format v1 materials: each BSDF model is the
 //! YAML type that builds it (`crates/ppm-scene/src/materials.rs` and `build.rs` read them),
 //! with the values it holds, so that reading the YAML makes the same BSDF bit for bit.
-//! A relative index `eta` is written as `int_ior: eta` over `ext_ior: 1` (eta / 1 = eta).
+//! A relative index `eta` is written as `int_ior: eta` over `ext_ior: 1` (eta / 1 = eta), or
+//! below 1 as `int_ior: 1` over the `ext_ior` whose reciprocal is eta.
 
 use super::text::{list, num, quoted, triple, Yaml};
 use super::Context;
@@ -51,8 +52,9 @@ fn roughness(r: &Microfacet, fields: &mut Vec<(&'static str, Value<'_>)>) {
 fn bsdf_fields<'a>(bsdf: &Bsdf) -> Fields<'a> {
     let mut f: Vec<(&'static str, Value)> = Vec::new();
     let ior = |f: &mut Vec<(&'static str, Value)>, eta: f32| {
-        f.push(("int_ior", text(num(eta))));
-        f.push(("ext_ior", text(num(1.0))));
+        let (int, ext) = ior_pair(eta);
+        f.push(("int_ior", text(num(int))));
+        f.push(("ext_ior", text(num(ext))));
     };
     let kind = match bsdf {
         Bsdf::Diffuse(b) => {
@@ -310,4 +312,28 @@ fn write_texture(
         }
     }
     Ok(())
+}
+
+/// Indices whose ratio int / ext (in single precision, as the loader divides) is `eta`
+/// exactly, each at least 1 as scene format v1 requires: `eta` over 1 for eta >= 1, else 1
+/// over the single-precision number nearest 1 / eta whose reciprocal is `eta` (searched a few
+/// ulps around 1 / eta; the nearest one is kept if none divides back exactly).
+fn ior_pair(eta: f32) -> (f32, f32) {
+    if eta >= 1.0 || !(eta > 0.0) {
+        return (eta, 1.0);
+    }
+    let guess = 1.0 / eta;
+    let mut candidates = vec![guess];
+    let (mut up, mut down) = (guess, guess);
+    for _ in 0..8 {
+        up = f32::from_bits(up.to_bits() + 1);
+        down = f32::from_bits(down.to_bits() - 1);
+        candidates.push(up);
+        candidates.push(down);
+    }
+    let ext = candidates
+        .into_iter()
+        .find(|&e| 1.0 / e == eta)
+        .unwrap_or(guess);
+    (1.0, ext)
 }

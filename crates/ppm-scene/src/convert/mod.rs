@@ -46,7 +46,7 @@ pub fn convert_scene(
     output: &Path,
     defines: &[(String, String)],
 ) -> Result<Conversion, LoadError> {
-    let (builder, warnings) = crate::load_scene_builder_with_defines(input, defines)?;
+    let (mut builder, warnings) = crate::load_scene_builder_with_defines(input, defines)?;
     // A file ppm convert wrote keeps its comments (the warnings of the original import).
     let kept_header = std::fs::read_to_string(input).ok().and_then(|text| {
         text.starts_with(HEADER).then(|| {
@@ -57,6 +57,20 @@ pub fn convert_scene(
         })
     });
     let mut ctx = Context::new(input, output);
+    // Instances are written as the copies they stand for: scene format v1's `instances:`
+    // takes its steps in single precision, and an imported placement is a double-precision
+    // matrix that would not come back the same.
+    if !builder.instances.is_empty() {
+        ctx.notes.push(format!(
+            "{} placements of {} instanced meshes are written as copies",
+            builder.instances.len(),
+            builder.instanced_meshes.len()
+        ));
+        builder
+            .flatten_instances()
+            .map_err(|e| LoadError::invalid(input, "instances", e.to_string()))?;
+        builder.instanced_meshes.clear();
+    }
     let body = write_body(&builder, &mut ctx)?;
     let header = match kept_header {
         Some(h) => h,

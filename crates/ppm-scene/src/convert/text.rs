@@ -87,7 +87,7 @@ mod tests {
             16777217.0,
             7e-45,
         ] {
-            let back: f64 = serde_yaml::from_str(&num(x)).unwrap();
+            let back: f64 = serde_yaml_ng::from_str(&num(x)).unwrap();
             assert_eq!(
                 (back as f32).to_bits(),
                 x.to_bits(),
@@ -100,7 +100,7 @@ mod tests {
     #[test]
     fn names_read_back_exactly() {
         for name in ["plain", "a: b # c", "q\"uo\\te", "", "tab\there", "ünï"] {
-            let back: String = serde_yaml::from_str(&quoted(name)).unwrap();
+            let back: String = serde_yaml_ng::from_str(&quoted(name)).unwrap();
             assert_eq!(back, name);
         }
     }
