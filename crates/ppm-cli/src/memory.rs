@@ -72,11 +72,13 @@ pub fn check(scene: &Scene, settings: &RenderSettings) -> Result<()> {
 /// The most a render of `pixels` pixels holds at once, from what its renderer allocates
 /// (`renderer`): at its end the renderer and the `snapshot` it hands over for saving
 /// ([`Snapshot::estimate_bytes`]); then, the renderer gone, the snapshot, its copy as EXR
-/// channels (each sum as at most four u32 words: the film's own size) and the images.
+/// channels (each sum as at most four u32 words: the film's own size), the ZIP-compressed
+/// blocks the encoder may hold before they are written (at most the channels' size again:
+/// data that does not compress) and the images.
 fn peak_bytes(renderer: u64, snapshot: u64, pixels: u64) -> u64 {
     let images = pixels.saturating_mul(OUTPUT_BYTES_PER_PIXEL);
     let ending = renderer.saturating_add(snapshot);
-    let writing = snapshot.saturating_mul(2).saturating_add(images);
+    let writing = snapshot.saturating_mul(3).saturating_add(images);
     ending.max(writing)
 }
 

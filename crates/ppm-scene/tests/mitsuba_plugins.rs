@@ -189,8 +189,8 @@ fn twosided_wraps_any_reflecting_bsdf() {
 fn what_the_bsdfs_cannot_honour_is_an_error_naming_it() {
     let cases = [
         (
-            "<shape type=\"sphere\"><bsdf type=\"roughconductor\">\n<texture type=\"bitmap\" name=\"alpha\"/></bsdf></shape>",
-            "scene.xml:6: texture `bitmap` (as `alpha` of bsdf `roughconductor`) is not supported yet",
+            "<shape type=\"sphere\"><bsdf type=\"roughplastic\">\n<texture type=\"bitmap\" name=\"alpha\"/></bsdf></shape>",
+            "scene.xml:6: texture `bitmap` (as `alpha` of bsdf `roughplastic`) is not supported",
         ),
         (
             "<shape type=\"sphere\"><bsdf type=\"plastic\">\n<texture type=\"mesh_attribute\" name=\"diffuse_reflectance\"/></bsdf></shape>",
