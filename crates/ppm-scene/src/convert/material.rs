@@ -319,7 +319,7 @@ fn write_texture(
 /// over the single-precision number nearest 1 / eta whose reciprocal is `eta` (searched a few
 /// ulps around 1 / eta; the nearest one is kept if none divides back exactly).
 fn ior_pair(eta: f32) -> (f32, f32) {
-    if eta >= 1.0 || !(eta > 0.0) {
+    if eta >= 1.0 || eta.is_nan() || eta <= 0.0 {
         return (eta, 1.0);
     }
     let guess = 1.0 / eta;
