@@ -78,23 +78,7 @@ impl LatLongMap {
     /// The map of `texels` (row-major, `width` x `height`, row 0 at the top). Builds the
     /// sampling distribution and the integral over the sphere.
     pub fn new(width: usize, height: usize, texels: Vec<Vec3>) -> Result<Self, MapError> {
-        if width == 0 || height == 0 || texels.len() != width * height {
-            return Err(MapError::Size {
-                width,
-                height,
-                texels: texels.len(),
-            });
-        }
-        if let Some(k) = texels
-            .iter()
-            .position(|t| !t.is_finite() || t.min_element() < 0.0)
-        {
-            return Err(MapError::Texel {
-                x: k % width,
-                y: k / width,
-                value: texels[k],
-            });
-        }
+        check_texels(width, height, &texels)?;
         let mut columns = Vec::with_capacity(height);
         let mut row_weights = Vec::with_capacity(height);
         let mut integral = [0.0f64; 3];
@@ -196,6 +180,26 @@ impl LatLongMap {
         }
         let pdf = p_row * p_col * (self.width * self.height) as f32 / (2.0 * PI * PI * sin_theta);
         Some((w, pdf))
+    }
+}
+
+/// `Ok` if `texels` holds `width` x `height` (both non-zero) finite, non-negative radiances;
+/// else what is wrong, and where (shared by the lat-long and equal-area maps).
+pub(super) fn check_texels(width: usize, height: usize, texels: &[Vec3]) -> Result<(), MapError> {
+    if width == 0 || height == 0 || texels.len() != width * height {
+        return Err(MapError::Size {
+            width,
+            height,
+            texels: texels.len(),
+        });
+    }
+    match (texels.iter()).position(|t| !t.is_finite() || t.min_element() < 0.0) {
+        Some(k) => Err(MapError::Texel {
+            x: k % width,
+            y: k / width,
+            value: texels[k],
+        }),
+        None => Ok(()),
     }
 }
 

@@ -27,7 +27,7 @@
 //! s, t in [0, 1]^2), so the solid-angle density is p(w) = P_ij N^2 / (4 pi).
 
 use crate::bsdf::luminance;
-use crate::light::envmap::MapError;
+use crate::light::envmap::{check_texels, MapError};
 use crate::sampling::Distribution1D;
 use glam::{Vec2, Vec3};
 use std::f32::consts::{FRAC_PI_2, FRAC_PI_4, PI};
@@ -93,23 +93,7 @@ pub struct EqualAreaMap {
 impl EqualAreaMap {
     /// The map of `texels` (row-major, `size` x `size`, row 0 at the top).
     pub fn new(size: usize, texels: Vec<Vec3>) -> Result<Self, MapError> {
-        if size == 0 || texels.len() != size * size {
-            return Err(MapError::Size {
-                width: size,
-                height: size,
-                texels: texels.len(),
-            });
-        }
-        if let Some(k) = texels
-            .iter()
-            .position(|t| !t.is_finite() || t.min_element() < 0.0)
-        {
-            return Err(MapError::Texel {
-                x: k % size,
-                y: k / size,
-                value: texels[k],
-            });
-        }
+        check_texels(size, size, &texels)?;
         let mut columns = Vec::with_capacity(size);
         let mut row_weights = Vec::with_capacity(size);
         let mut weights = vec![0.0f32; size];
