@@ -48,6 +48,7 @@ pub mod serialized;
 mod texture_desc;
 mod values;
 mod yaml;
+mod yaml_light;
 
 pub use build::DEFAULT_RESOLUTION;
 pub use content_hash::content_hash;

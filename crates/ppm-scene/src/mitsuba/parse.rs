@@ -9,13 +9,11 @@
 //! bound on the XML nodes of one file.
 
 use super::names::camel_to_snake;
-use super::transform;
 use super::tree::{Location, Object, Property, SceneTree, Spectrum, Value};
-use super::values::{
-    parse_hex_colour, parse_number, parse_numbers, parse_spectrum, parse_triple, srgb_to_linear,
-};
+mod transform_element;
+
+use super::values::{parse_hex_colour, parse_number, parse_spectrum, parse_triple, srgb_to_linear};
 use crate::LoadError;
-use glam::{DMat4, DVec3};
 use roxmltree::{Document, Node, ParsingOptions};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -76,7 +74,7 @@ pub fn parse_str(
     };
     let root = parser.parse_document(text, path)?;
     parser.resolve_forward_refs()?;
-    refuse_cycles(&parser.objects)?;
+    super::tree::refuse_cycles(&parser.objects)?;
     Ok(SceneTree {
         objects: parser.objects,
         root,
@@ -560,138 +558,6 @@ impl Parser {
         self.search_paths.insert(0, dir);
         Ok(())
     }
-
-    /// `x`, `y`, `z` attributes (missing ones `default`) or `value="x, y, z"` (or one value
-    /// for all three).
-    fn parse_xyz(&self, file: &File, node: Node, default: f64) -> Result<DVec3, LoadError> {
-        let location = file.location(node);
-        if let Some(v) = self.attr(file, node, "value")? {
-            return parse_triple(&v).ok_or_else(|| {
-                location.error(format!(
-                    "<{}>: expected 1 or 3 numbers, got `{v}`",
-                    tag(node)
-                ))
-            });
-        }
-        let mut out = DVec3::splat(default);
-        for (i, axis) in ["x", "y", "z"].into_iter().enumerate() {
-            if let Some(v) = self.attr(file, node, axis)? {
-                out[i] = parse_number(&v).ok_or_else(|| {
-                    location.error(format!(
-                        "<{}>: `{axis}` is not a finite number: `{v}`",
-                        tag(node)
-                    ))
-                })?;
-            }
-        }
-        Ok(out)
-    }
-
-    /// A `<transform>`: its operations composed in order (`transform.rs`).
-    fn parse_transform(&self, file: &File, node: Node) -> Result<DMat4, LoadError> {
-        let mut m = DMat4::IDENTITY;
-        for op in node.children().filter(|n| n.is_element()) {
-            let location = file.location(op);
-            let vector = |name: &str| -> Result<DVec3, LoadError> {
-                let v = self.need(file, op, name)?;
-                parse_triple(&v).ok_or_else(|| {
-                    location.error(format!(
-                        "<{}>: `{name}` needs 3 numbers, got `{v}`",
-                        tag(op)
-                    ))
-                })
-            };
-            let step = match tag(op) {
-                "translate" => transform::translate(self.parse_xyz(file, op, 0.0)?),
-                "scale" => transform::scale(self.parse_xyz(file, op, 1.0)?),
-                "rotate" => {
-                    let axis = self.parse_xyz(file, op, 0.0)?;
-                    let a = self.need(file, op, "angle")?;
-                    let angle = parse_number(&a).ok_or_else(|| {
-                        location.error(format!("<rotate>: angle `{a}` is not a finite number"))
-                    })?;
-                    transform::rotate(axis, angle)
-                        .ok_or_else(|| location.error("<rotate>: the axis is zero"))?
-                }
-                "lookat" | "lookAt" => {
-                    let up = match self.attr(file, op, "up")? {
-                        Some(_) => vector("up")?,
-                        None => DVec3::ZERO,
-                    };
-                    transform::look_at(vector("origin")?, vector("target")?, up).ok_or_else(
-                        || {
-                            location.error(
-                                "<lookat>: origin equals target, or up is parallel to the view",
-                            )
-                        },
-                    )?
-                }
-                "matrix" => {
-                    let v = self.need(file, op, "value")?;
-                    let numbers = parse_numbers(&v)
-                        .ok_or_else(|| location.error(format!("<matrix>: not numbers: `{v}`")))?;
-                    transform::matrix(&numbers).ok_or_else(|| {
-                        location.error(format!(
-                            "<matrix> needs 16 or 9 values, got {}",
-                            numbers.len()
-                        ))
-                    })?
-                }
-                other => {
-                    return Err(location.error(format!("unexpected <{other}> inside <transform>")))
-                }
-            };
-            m = step * m;
-        }
-        Ok(m)
-    }
-}
-
-/// An error if an object contains itself through `<ref>`s (`<bsdf id="a"><ref id="a"/>`),
-/// which forward references make possible: the build would never end. Depth-first search,
-/// iterative (a chain of references may be as long as the scene).
-fn refuse_cycles(objects: &[Object]) -> Result<(), LoadError> {
-    // 0: not visited, 1: on the current path, 2: done.
-    let mut state = vec![0u8; objects.len()];
-    let children = |o: usize| {
-        objects[o].properties.iter().filter_map(|p| match p.value {
-            Value::Object(c) => Some(c),
-            _ => None,
-        })
-    };
-    for start in 0..objects.len() {
-        if state[start] != 0 {
-            continue;
-        }
-        // (object, how many of its children are already pushed)
-        let mut stack = vec![(start, 0usize)];
-        state[start] = 1;
-        while let Some(&mut (o, ref mut next)) = stack.last_mut() {
-            match children(o).nth(*next) {
-                Some(c) => {
-                    *next += 1;
-                    match state[c] {
-                        0 => {
-                            state[c] = 1;
-                            stack.push((c, 0));
-                        }
-                        1 => {
-                            return Err(objects[c].location.error(format!(
-                                "{} contains itself through <ref>s",
-                                objects[c].describe()
-                            )))
-                        }
-                        _ => {}
-                    }
-                }
-                None => {
-                    state[o] = 2;
-                    stack.pop();
-                }
-            }
-        }
-    }
-    Ok(())
 }
 
 fn tag<'a>(node: Node<'a, '_>) -> &'a str {

@@ -2,6 +2,7 @@
 //! the file and line it came from. Nothing here knows about rendering; the build layer reads
 //! it through [`super::props::Props`].
 
+use crate::LoadError;
 use glam::{DMat4, DVec3};
 use std::fmt;
 use std::path::{Path, PathBuf};
@@ -147,4 +148,51 @@ impl SceneTree {
             .find(|p| p.exists())
             .unwrap_or_else(|| beside(naming_file))
     }
+}
+
+/// An error if an object contains itself through `<ref>`s (`<bsdf id="a"><ref id="a"/>`),
+/// which forward references make possible: the build would never end. Depth-first search,
+/// iterative (a chain of references may be as long as the scene).
+pub(super) fn refuse_cycles(objects: &[Object]) -> Result<(), LoadError> {
+    // 0: not visited, 1: on the current path, 2: done.
+    let mut state = vec![0u8; objects.len()];
+    let children = |o: usize| {
+        objects[o].properties.iter().filter_map(|p| match p.value {
+            Value::Object(c) => Some(c),
+            _ => None,
+        })
+    };
+    for start in 0..objects.len() {
+        if state[start] != 0 {
+            continue;
+        }
+        // (object, how many of its children are already pushed)
+        let mut stack = vec![(start, 0usize)];
+        state[start] = 1;
+        while let Some(&mut (o, ref mut next)) = stack.last_mut() {
+            match children(o).nth(*next) {
+                Some(c) => {
+                    *next += 1;
+                    match state[c] {
+                        0 => {
+                            state[c] = 1;
+                            stack.push((c, 0));
+                        }
+                        1 => {
+                            return Err(objects[c].location.error(format!(
+                                "{} contains itself through <ref>s",
+                                objects[c].describe()
+                            )))
+                        }
+                        _ => {}
+                    }
+                }
+                None => {
+                    state[o] = 2;
+                    stack.pop();
+                }
+            }
+        }
+    }
+    Ok(())
 }
