@@ -55,6 +55,47 @@ pub enum EnvironmentMap {
     EqualArea(Arc<EqualAreaMap>),
 }
 
+impl EnvironmentMap {
+    /// Radiance toward the local direction `w` (the map's frame).
+    #[inline]
+    fn eval(&self, w: Vec3) -> Vec3 {
+        match self {
+            EnvironmentMap::Constant(c) => *c,
+            EnvironmentMap::Image(m) => m.eval(w),
+            EnvironmentMap::EqualArea(m) => m.eval(w),
+        }
+    }
+
+    /// Solid-angle density of sampling the local direction `w`: 1 / (4 pi) for a constant
+    /// map, the image's density for the others.
+    #[inline]
+    fn pdf(&self, w: Vec3) -> f32 {
+        match self {
+            EnvironmentMap::Constant(_) => 1.0 / (4.0 * PI),
+            EnvironmentMap::Image(m) => m.pdf(w),
+            EnvironmentMap::EqualArea(m) => m.pdf(w),
+        }
+    }
+
+    /// The integral of the radiance over the sphere of directions, per channel (W/m^2).
+    fn integral(&self) -> Vec3 {
+        match self {
+            EnvironmentMap::Constant(c) => *c * (4.0 * PI),
+            EnvironmentMap::Image(m) => m.integral(),
+            EnvironmentMap::EqualArea(m) => m.integral(),
+        }
+    }
+
+    /// Every radiance the map holds (one for a constant map).
+    pub fn texels(&self) -> &[Vec3] {
+        match self {
+            EnvironmentMap::Constant(c) => std::slice::from_ref(c),
+            EnvironmentMap::Image(m) => m.texels(),
+            EnvironmentMap::EqualArea(m) => m.texels(),
+        }
+    }
+}
+
 /// An environment light (see the module documentation).
 #[derive(Clone, Debug)]
 pub struct EnvironmentLight {
@@ -121,12 +162,7 @@ impl EnvironmentLight {
 
     /// Integral of L over the sphere of directions, per channel (W/m^2).
     pub fn radiance_integral(&self) -> Vec3 {
-        self.scale
-            * match &self.map {
-                EnvironmentMap::Constant(c) => *c * (4.0 * PI),
-                EnvironmentMap::Image(m) => m.integral(),
-                EnvironmentMap::EqualArea(m) => m.integral(),
-            }
+        self.scale * self.map.integral()
     }
 
     /// pi R^2, the area of the disk of origins.
@@ -152,8 +188,7 @@ impl EnvironmentLight {
     pub fn radiance(&self, wi: Vec3) -> Vec3 {
         match &self.map {
             EnvironmentMap::Constant(c) => *c * self.scale,
-            EnvironmentMap::Image(m) => m.eval(self.to_world.transpose() * wi) * self.scale,
-            EnvironmentMap::EqualArea(m) => m.eval(self.to_world.transpose() * wi) * self.scale,
+            map => map.eval(self.to_world.transpose() * wi) * self.scale,
         }
     }
 
@@ -164,8 +199,7 @@ impl EnvironmentLight {
     pub fn pdf_dir(&self, wi: Vec3) -> f32 {
         match &self.map {
             EnvironmentMap::Constant(_) => 1.0 / (4.0 * PI),
-            EnvironmentMap::Image(m) => m.pdf(self.to_world.transpose() * wi),
-            EnvironmentMap::EqualArea(m) => m.pdf(self.to_world.transpose() * wi),
+            map => map.pdf(self.to_world.transpose() * wi),
         }
     }
 
@@ -174,19 +208,18 @@ impl EnvironmentLight {
     fn sample_dir(&self, u: Vec2) -> Option<(Vec3, f32)> {
         match &self.map {
             EnvironmentMap::Constant(_) => Some((uniform_sphere(u), 1.0 / (4.0 * PI))),
-            // The density is evaluated again from the world direction, so that a sample's
-            // pdf is `pdf_dir` of its direction bit for bit (MIS weights compare them).
-            EnvironmentMap::Image(m) => {
-                let (w, _) = m.sample(u)?;
-                let wi = (self.to_world * w).normalize();
-                Some((wi, self.pdf_dir(wi)))
-            }
-            EnvironmentMap::EqualArea(m) => {
-                let (w, _) = m.sample(u)?;
-                let wi = (self.to_world * w).normalize();
-                Some((wi, self.pdf_dir(wi)))
-            }
+            EnvironmentMap::Image(m) => self.image_direction(m.sample(u)?.0),
+            EnvironmentMap::EqualArea(m) => self.image_direction(m.sample(u)?.0),
         }
+    }
+
+    /// The world direction of an image's local sample `w`, and its density evaluated again
+    /// from that direction, so that a sample's pdf is `pdf_dir` of its direction bit for bit
+    /// (MIS weights compare them).
+    #[inline]
+    fn image_direction(&self, w: Vec3) -> Option<(Vec3, f32)> {
+        let wi = (self.to_world * w).normalize();
+        Some((wi, self.pdf_dir(wi)))
     }
 
     /// Next-event estimation from `p`: wi by the map's distribution, radiance L(wi), at a

@@ -377,17 +377,7 @@ impl Light {
             Light::Directional(light) => ("irradiance", light.irradiance.max_element()),
             Light::Environment(light) => {
                 let (map, scale, _) = light.parts();
-                let brightest = match map {
-                    EnvironmentMap::Constant(c) => c.max_element(),
-                    EnvironmentMap::Image(m) => m
-                        .texels()
-                        .iter()
-                        .fold(0.0f32, |a, t| a.max(t.max_element())),
-                    EnvironmentMap::EqualArea(m) => m
-                        .texels()
-                        .iter()
-                        .fold(0.0f32, |a, t| a.max(t.max_element())),
-                };
+                let brightest = (map.texels().iter()).fold(0.0f32, |a, t| a.max(t.max_element()));
                 (
                     "radiance (`color` or `file` times `scale`)",
                     brightest * scale,
