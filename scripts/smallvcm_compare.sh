@@ -1,35 +1,52 @@
 #!/usr/bin/env bash
 # ppm against SmallVCM (Davidovič's C++ implementation of vertex connection and merging) on
 # SmallVCM's own Cornell box with a glossy Phong floor, a large glass sphere and the ceiling
-# light (its box mask 289), which scenes/compare/smallvcm_glass_ceiling.yml transcribes:
-# relMSE per iteration of each technique set (vcm, bpt, bpm, lt; the same names in both
-# renderers) and a short equal-CPU-time check of vcm. See docs/vcm.md ("Against SmallVCM")
-# and docs/performance.md.
+# light (its box mask 289), which scenes/compare/smallvcm_glass_ceiling.yml transcribes.
+# Two parts, written as Markdown tables to OUT/table.md (see docs/vcm.md, "Against SmallVCM",
+# and docs/performance.md):
 #
-# SmallVCM is not part of ppm and none of its code is committed: the script clones it into
-# SMALLVCM_DIR if it is not there, copies its sources to SMALLVCM_DIR/build and edits that
-# copy only to add (a) scene 4 = mask 289 and (b) environment variables for its seed,
-# resolution, thread count and maximum path length, then compiles it (g++ -O3 -fopenmp).
-# Statistics: scripts/smallvcm_stats.py, run with Mitsuba's python (it reads EXR and HDR).
+# 1. Per iteration, at ITER_SIZE: SEEDS renders of ITERATIONS iterations of each technique set
+#    (vcm, bpt, bpm, lt; the same names in both renderers), their relMSE and relVar. Both are
+#    measured against SmallVCM's long vcm render (REF_ITERATIONS iterations, another seed):
+#    a reference independent of the images measured. (A reference made of the measured images
+#    themselves, such as their mean, bounds each firefly's relative error by its own square
+#    and so hides exactly the outliers being compared.)
+# 2. Equal time, at each of SIZES: each renderer's algorithms for RUN_SECONDS of wall clock on
+#    2 threads, ROUNDS rounds alternating the renderers (the machine may be shared), relMSE
+#    against SmallVCM's long vcm render at that size; the best of each renderer and their ratio.
 #
-# Both renderers render SIZE x SIZE (SmallVCM's light paths are one per pixel in both),
-# SmallVCM's merge radius 0.003 x the scene's bounding-sphere radius = 0.0066512 and
-# alpha 0.75, at most 10 edges per path (SmallVCM's default; ppm's max_depth 9). Each
-# renderer's relMSE is against its own long vcm render (REF_ITERATIONS iterations); the
-# two references' means are printed as a check that both render the same scene.
+# SmallVCM is not part of ppm and none of its code is committed: the script clones it (from
+# SMALLVCM_GIT: the local mirror when there is one, else GitHub) into SMALLVCM_DIR/src_repo if
+# absent, copies its sources to SMALLVCM_DIR/build and edits that copy only to add (a) scene 4 =
+# mask 289 and (b) environment variables for its seed, resolution, thread count and maximum
+# path length, then compiles it (g++ -O3 -fopenmp). Statistics: scripts/smallvcm_stats.py, run
+# with Mitsuba's python (it reads EXR and HDR).
+#
+# Both renderers render SIZE x SIZE (one light subpath per pixel in both), SmallVCM's merge
+# radius 0.003 x the scene's bounding-sphere radius = 0.0066512 and alpha 0.75 for vcm and bpm,
+# at most 10 edges per path (SmallVCM's default; ppm's max_depth 9).
 #
 # Usage: scripts/smallvcm_compare.sh [OUT]
-#   env: SIZE (256), ITERATIONS (24), SEEDS (4), REF_ITERATIONS (800), TECHNIQUES
-#   ("vcm bpt bpm lt"), SMALLVCM_DIR (/work/smallvcm), PYTHON (/work/venv-mitsuba/bin/python)
+#   env: ITER_SIZE (256), ITERATIONS (24), SEEDS (4), TECHNIQUES ("vcm bpt bpm lt"),
+#        REF_ITERATIONS (800 at 256 px, scaled by (256/size)^2 above), SIZES ("256"),
+#        RUN_SECONDS (20), ROUNDS (2), SVCM_ALGS ("vcm bpt pt ppm"), PPM_ALGS ("vcm pt sppm"),
+#        SMALLVCM_DIR (/work/smallvcm), SMALLVCM_GIT, PYTHON (/work/venv-mitsuba/bin/python)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 out=${1:-compare_smallvcm_glass}
-size=${SIZE:-256}
+iter_size=${ITER_SIZE:-256}
 iterations=${ITERATIONS:-24}
 seeds=${SEEDS:-4}
-ref_iterations=${REF_ITERATIONS:-800}
 techniques=${TECHNIQUES:-vcm bpt bpm lt}
+sizes=${SIZES:-256}
+seconds=${RUN_SECONDS:-20}
+rounds=${ROUNDS:-2}
+svcm_algs=${SVCM_ALGS:-vcm bpt pt ppm}
+ppm_algs=${PPM_ALGS:-vcm pt sppm}
 smallvcm_dir=${SMALLVCM_DIR:-/work/smallvcm}
+mirror=/work/.mirror/SmallVCM+SmallVCM/repo
+if [ -d "$mirror" ]; then default_git=$mirror; else default_git=https://github.com/SmallVCM/SmallVCM; fi
+smallvcm_git=${SMALLVCM_GIT:-$default_git}
 python=${PYTHON:-/work/venv-mitsuba/bin/python}
 scene=scenes/compare/smallvcm_glass_ceiling.yml
 ppm=target/release/ppm
@@ -39,7 +56,7 @@ mkdir -p "$out"
 # SmallVCM, built beside ppm (never inside this repository).
 if [ ! -x "$smallvcm" ]; then
   if [ ! -d "$smallvcm_dir/src_repo" ]; then
-    git clone --quiet https://github.com/SmallVCM/SmallVCM "$smallvcm_dir/src_repo"
+    git clone --quiet "$smallvcm_git" "$smallvcm_dir/src_repo"
   fi
   rm -rf "$smallvcm_dir/build"
   cp -r "$smallvcm_dir/src_repo/src" "$smallvcm_dir/build"
@@ -54,63 +71,99 @@ if [ ! -x "$smallvcm" ]; then
 fi
 CARGO_INCREMENTAL=0 cargo build --release --quiet -p ppm-cli
 
-# svcm ALG SEED ITERATIONS FILE: SmallVCM on 2 threads; its threads take seeds SEED and SEED + 1.
+# svcm SIZE ALG SEED FILE [SmallVCM's options]: SmallVCM on 2 threads (seeds SEED, SEED + 1).
 svcm() {
-  SMALLVCM_RESOLUTION=$size SMALLVCM_SEED=$2 SMALLVCM_THREADS=2 \
-    "$smallvcm" -s 4 -a "$1" -i "$3" -o "$4" > /dev/null
+  local size=$1 alg=$2 seed=$3 file=$4
+  shift 4
+  SMALLVCM_RESOLUTION=$size SMALLVCM_SEED=$seed SMALLVCM_THREADS=2 \
+    "$smallvcm" -s 4 -a "$alg" -o "$file" "$@" > /dev/null
 }
-# ppmr ALG SEED ITERATIONS FILE_STEM
+# ppmr SIZE ALG SEED FILE_STEM [ppm's options]
 ppmr() {
-  "$ppm" "$scene" -a "$1" --seed "$2" -n "$3" --width "$size" --height "$size" --threads 2 \
-    -o "$4" 2> /dev/null
+  local size=$1 alg=$2 seed=$3 file=$4
+  shift 4
+  "$ppm" "$scene" -a "$alg" --seed "$seed" --width "$size" --height "$size" --threads 2 \
+    -o "$file" -q "$@"
+}
+# stats REFERENCE IMAGE...: K, reference mean, images' mean, relMSE, its standard error, relVar.
+stats() { "$python" scripts/smallvcm_stats.py "$@"; }
+# reference SIZE: SmallVCM's long vcm render at SIZE (kept between runs).
+reference() {
+  local size=$1 n=${REF_ITERATIONS:-$((800 * 256 * 256 / ($1 * $1)))}
+  local file=$out/ref_smallvcm_$size.hdr
+  [ -f "$file" ] || svcm "$size" vcm 100000 "$file" -i "$n"
+  echo "$file"
 }
 
-# The references (kept between runs).
-[ -f "$out/ref_smallvcm.hdr" ] || svcm vcm 100000 "$ref_iterations" "$out/ref_smallvcm.hdr"
-[ -f "$out/ref_ppm.exr" ] || ppmr vcm 100000 "$ref_iterations" "$out/ref_ppm"
-echo "reference means (SmallVCM, ppm; each against the other as a check):"
-"$python" scripts/smallvcm_stats.py "$out/ref_ppm.exr" "$out/ref_smallvcm.hdr"
-"$python" scripts/smallvcm_stats.py "$out/ref_smallvcm.hdr" "$out/ref_ppm.exr"
-
-# Per iteration: SEEDS renders of ITERATIONS iterations per technique set and renderer.
 table=$out/table.md
+: > "$table"
+
+# 1. Per iteration.
+ref=$(reference "$iter_size")
 {
-  echo "| technique | SmallVCM relMSE | ppm relMSE | SmallVCM relVar | ppm relVar | ppm / SmallVCM (relMSE) |"
+  echo "Per iteration: $iter_size x $iter_size, $iterations iterations, $seeds seeds, against" \
+    "SmallVCM's vcm of ${REF_ITERATIONS:-$((800 * 256 * 256 / (iter_size * iter_size)))} iterations (mean $(stats "$ref" "$ref" | cut -f2))."
+  echo
+  echo "| technique | SmallVCM relMSE | ppm relMSE | SmallVCM relVar | ppm relVar | ppm / SmallVCM (relVar) |"
   echo "|---|---|---|---|---|---|"
-} > "$table"
+} >> "$table"
 for alg in $techniques; do
   svcm_images=() ppm_images=()
   for s in $(seq 1 "$seeds"); do
-    svcm "$alg" $((s * 10)) "$iterations" "$out/smallvcm_${alg}_s$s.hdr"
-    ppmr "$alg" "$s" "$iterations" "$out/ppm_${alg}_s$s"
+    svcm "$iter_size" "$alg" $((s * 10)) "$out/smallvcm_${alg}_s$s.hdr" -i "$iterations"
+    ppmr "$iter_size" "$alg" "$s" "$out/ppm_${alg}_s$s" -n "$iterations"
     svcm_images+=("$out/smallvcm_${alg}_s$s.hdr")
     ppm_images+=("$out/ppm_${alg}_s$s.exr")
   done
-  # Fields: K, reference mean, images' mean, relMSE, its standard error, relVar.
-  # relMSE against each renderer's own reference; relVar over the same denominators (SmallVCM's).
-  read -r _ _ _ s_rel s_err s_var < <("$python" scripts/smallvcm_stats.py "$out/ref_smallvcm.hdr" "${svcm_images[@]}")
-  read -r _ _ _ p_rel p_err _ < <("$python" scripts/smallvcm_stats.py "$out/ref_ppm.exr" "${ppm_images[@]}")
-  read -r _ _ _ _ _ p_var < <("$python" scripts/smallvcm_stats.py "$out/ref_smallvcm.hdr" "${ppm_images[@]}")
-  ratio=$(python3 -c "print(f'{$p_rel / $s_rel:.2f}')")
+  read -r _ _ _ s_rel s_err s_var < <(stats "$ref" "${svcm_images[@]}")
+  read -r _ _ _ p_rel p_err p_var < <(stats "$ref" "${ppm_images[@]}")
+  ratio=$(python3 -c "print(f'{$p_var / $s_var:.2f}')")
   echo "| $alg | $s_rel ± $s_err | $p_rel ± $p_err | $s_var | $p_var | $ratio |" >> "$table"
 done
 
-# Equal CPU time, vcm (measured on whatever load the machine has): SmallVCM's ITERATIONS
-# iterations and as many ppm iterations as fit in the same CPU seconds (user + sys).
-cpu() { /usr/bin/time -f "%U %S" "$@" 2>&1 >/dev/null | tail -n 1 | awk '{print $1 + $2}'; }
-svcm_cpu=$(cpu env SMALLVCM_RESOLUTION="$size" SMALLVCM_SEED=7 SMALLVCM_THREADS=2 \
-  "$smallvcm" -s 4 -a vcm -i "$iterations" -o "$out/smallvcm_time.hdr")
-ppm_cpu=$(cpu "$ppm" "$scene" -a vcm --seed 7 -n "$iterations" --width "$size" --height "$size" \
-  --threads 2 -o "$out/ppm_time_probe")
-ppm_iterations=$(python3 -c "print(max(1, round($iterations * $svcm_cpu / $ppm_cpu)))")
-ppm_equal_cpu=$(cpu "$ppm" "$scene" -a vcm --seed 7 -n "$ppm_iterations" --width "$size" \
-  --height "$size" --threads 2 -o "$out/ppm_time")
-read -r _ _ _ s_time _ _ < <("$python" scripts/smallvcm_stats.py "$out/ref_smallvcm.hdr" "$out/smallvcm_time.hdr")
-read -r _ _ _ p_time _ _ < <("$python" scripts/smallvcm_stats.py "$out/ref_ppm.exr" "$out/ppm_time.exr")
-{
-  echo
-  echo "Equal CPU time, vcm (measured on a loaded machine): SmallVCM $iterations iterations in" \
-    "$svcm_cpu CPU s, relMSE $s_time; ppm $ppm_iterations iterations in $ppm_equal_cpu CPU s," \
-    "relMSE $p_time."
-} >> "$table"
+# 2. Equal time.
+for size in $sizes; do
+  ref=$(reference "$size")
+  {
+    echo
+    echo "Equal time: $size x $size, $seconds s of wall clock on 2 threads per run, $rounds" \
+      "rounds alternating the renderers; relMSE against SmallVCM's long vcm render (mean" \
+      "over the rounds; min-max)."
+    echo
+    echo "| renderer | algorithm | relMSE | min | max |"
+    echo "|---|---|---|---|---|"
+  } >> "$table"
+  for r in $(seq 1 "$rounds"); do
+    for alg in $svcm_algs; do
+      svcm "$size" "$alg" $((1000 + r * 10)) "$out/time_smallvcm_${size}_${alg}_r$r.hdr" \
+        -t "$seconds"
+    done
+    for alg in $ppm_algs; do
+      extra=()
+      # ppm's photon mappers choose their own radius; vcm keeps SmallVCM's.
+      if [ "$alg" = sppm ] || [ "$alg" = ppm ]; then extra=(--radius auto); fi
+      ppmr "$size" "$alg" $((1000 + r)) "$out/time_ppm_${size}_${alg}_r$r" \
+        --time-limit "$seconds" "${extra[@]}"
+    done
+  done
+  best_s=1e9 best_p=1e9
+  for who in smallvcm ppm; do
+    if [ $who = smallvcm ]; then algs=$svcm_algs ext=hdr; else algs=$ppm_algs ext=exr; fi
+    for alg in $algs; do
+      values=()
+      for r in $(seq 1 "$rounds"); do
+        values+=("$(stats "$ref" "$out/time_${who}_${size}_${alg}_r$r.$ext" | cut -f4)")
+      done
+      read -r mean lo hi < <(python3 -c "v=[float(x) for x in '${values[*]}'.split()]; print(f'{sum(v)/len(v):.5f} {min(v):.5f} {max(v):.5f}')")
+      echo "| $who | $alg | $mean | $lo | $hi |" >> "$table"
+      if [ $who = smallvcm ]; then
+        best_s=$(python3 -c "print(min($best_s, $mean))")
+      else
+        best_p=$(python3 -c "print(min($best_p, $mean))")
+      fi
+    done
+  done
+  echo >> "$table"
+  echo "Best at $size px: ppm $best_p, SmallVCM $best_s, ratio $(python3 -c "print(f'{$best_p / $best_s:.2f}')")." >> "$table"
+done
 cat "$table"

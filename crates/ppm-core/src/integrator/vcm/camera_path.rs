@@ -8,7 +8,7 @@ use super::mis::{
 use super::vertex::{LightVertex, MergeVertex, SurfaceVertex};
 use crate::bsdf::{Lobe, TransportMode};
 use crate::geometry::Ray;
-use crate::integrator::camera_path::start_pixel_path;
+use crate::integrator::camera_path::{refraction_scale, start_pixel_path};
 use crate::integrator::camera_walk::RayCounters;
 use crate::integrator::runner::Poll;
 use crate::photon::HashGrid;
@@ -51,24 +51,6 @@ struct CameraVertex<'v> {
     specular_path: bool,
 }
 
-/// The factor eta^2 by which a transmission sample's radiance-mode weight `radiance` is
-/// smaller than its importance-mode one (the 1/eta^2 of [`TransportMode::Radiance`], see
-/// `bsdf::Glass`): the same sample drawn again in importance mode (the mode changes only the
-/// weight's scale, not the direction), the ratio of the two weights' largest channels. 1 if
-/// either weight is zero.
-#[inline]
-fn radiance_scale_inverse(v: &SurfaceVertex, radiance: Vec3, u_lobe: f32, u: glam::Vec2) -> f32 {
-    let Some(importance) = v.bsdf.sample(v.sf.wo, u_lobe, u, TransportMode::Importance) else {
-        return 1.0;
-    };
-    let (r, i) = (radiance.max_element(), importance.weight.max_element());
-    if r > 0.0 && i > 0.0 && r.is_finite() && i.is_finite() {
-        i / r
-    } else {
-        1.0
-    }
-}
-
 impl CameraPass<'_> {
     /// The estimate of pixel `pixel` (row-major in the full image) in this iteration: the
     /// camera subpath through a uniform point of the pixel, paired with light subpath
@@ -93,7 +75,7 @@ impl CameraPass<'_> {
         let mut state = SubpathMis::camera_start(camera.pixel_direction_pdf(cos), c);
         let mut throughput = Vec3::ONE;
         // The product of the importance-mode over radiance-mode weights of the refractions so
-        // far (eta^2 each, [`radiance_scale_inverse`]): Russian roulette reads the throughput
+        // far (eta^2 each, [`refraction_scale`]): Russian roulette reads the throughput
         // times it.
         let mut eta_scale = 1.0f32;
         let mut result = Vec3::ZERO;
@@ -164,18 +146,13 @@ impl CameraPass<'_> {
             state.scatter(specular, s.wi.z.abs(), s.pdf, pdf_reverse, c);
             specular_path &= specular;
             if s.wi.z * v.sf.wo.z < 0.0 {
-                eta_scale *= radiance_scale_inverse(&v, s.weight, u_lobe, u);
+                eta_scale *= refraction_scale(&v.bsdf, v.sf.wo, u_lobe, u, s.weight);
             }
             throughput *= s.weight;
             if edges >= self.rr_depth {
-                // Survival min(1, max channel of throughput eta_scale) (pbrt-v4's path tracer
-                // does the same: rrBeta = beta * etaScale): the radiance carried into a dielectric is
-                // divided by eta^2 and multiplied back on leaving it, so roulette on the
-                // throughput alone would kill camera subpaths inside glass with probability
-                // 1 - 1/eta^2 (61% at eta 1.6) and the survivors would leave it carrying
-                // eta^2 times the radiance: rare paths worth 2.6 times the light's radiance,
-                // fireflies where glass shows the light. Any survival probability keeps the
-                // estimator unbiased; this one follows what the path can still bring.
+                // Survival min(1, max channel of throughput eta_scale), as the path tracer's
+                // (`CameraPath::scatter`; why: [`refraction_scale`]). The MIS weights leave
+                // roulette out, so any survival probability keeps the estimator unbiased.
                 let survive = (throughput * eta_scale).max_element().min(1.0);
                 if survive.is_nan() || rng.uniform() >= survive {
                     break;

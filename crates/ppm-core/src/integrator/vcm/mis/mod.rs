@@ -38,7 +38,9 @@
 
 use super::techniques::Techniques;
 
-/// The power heuristic's exponent (beta = 2), as SmallVCM uses by default.
+/// The power heuristic's exponent, beta = 2 (Veach 1997, sec. 9.2.4). SmallVCM's `Mis` returns
+/// the pdf itself, the balance heuristic (beta = 1); on SmallVCM's glass-sphere box the two
+/// give the same variance per iteration in either renderer (docs/vcm.md, "Against SmallVCM").
 const BETA: i32 = 2;
 
 /// p^beta: the heuristic applied to one pdf or pdf ratio ("Mis" in SmallVCM).
