@@ -42,7 +42,7 @@ use crate::pixel_bounds::PixelBounds;
 use crate::scene::Scene;
 use crate::StateError;
 use glam::Vec3;
-use photon_pass::{batch_photons, photon_buffer, PhotonPass};
+use photon_pass::{batch_photons, PhotonPass};
 use rayon::prelude::*;
 use std::ops::Range;
 
@@ -72,6 +72,8 @@ pub struct SppmRenderer {
     photons: PhotonBuffer<SppmPhoton>,
     /// Light paths in the next batch (set from the photons the last batch stored).
     paths_per_batch: u32,
+    /// Photons a batch may hold at most (the photon buffer grows up to it).
+    batch_limit: usize,
     grid: PhotonGrid,
     /// Light paths traced over all iterations (N_e).
     emitted: u64,
@@ -189,7 +191,8 @@ impl Integrator for SppmRenderer {
             Radius::World(r) => (r, false),
             Radius::Auto => (0.0, true),
         };
-        let photons = photon_buffer(pixels, settings.photons);
+        let (batch, batch_limit) = batch_photons(pixels, settings.photons);
+        let photons = PhotonBuffer::with_capacity(batch);
         let paths_per_batch = (photons.capacity() / PHOTONS_PER_PATH).max(1) as u32;
         SppmRenderer {
             direct: film,
@@ -199,6 +202,7 @@ impl Integrator for SppmRenderer {
             accumulators: vec![Accumulator::default(); pixels],
             photons,
             paths_per_batch,
+            batch_limit,
             grid: PhotonGrid::new(),
             emitted: 0,
             image: vec![Vec3::ZERO; pixels],

@@ -15,14 +15,12 @@
 //! cutting the light paths into batches (and the order of the pairs) changes no bit.
 
 use super::gather::{gather, SplatCounters};
-use super::photon::SppmPhoton;
 use super::pixel::{self, FixedPoint};
 use super::{SppmRenderer, COARSER, PATHS_PER_TASK, PIXELS_PER_TASK};
 use crate::integrator::runner::{reduce_until, Poll};
 use crate::integrator::{
     trace_light_path, PhotonCounters, Stop, Stopwatch, MAX_LIGHT_PATHS, PHOTONS_PER_PATH,
 };
-use crate::photon::PhotonBuffer;
 use crate::scene::Scene;
 use rayon::prelude::*;
 
@@ -82,9 +80,10 @@ impl SppmRenderer {
                     pixel::clear(&mut self.accumulators);
                     return None;
                 };
-                let stored = self.photons.pushed();
-                self.adapt_batch(end - first, stored);
-                if self.photons.overflowed() {
+                let (stored, overflowed) = (self.photons.pushed(), self.photons.overflowed());
+                // (May grow the buffer, which clears it: read the overflow before.)
+                self.adapt_batch(end - first, stored, overflowed);
+                if overflowed {
                     // Redo the batch, grown or cut to fit (the same photons come again).
                     continue;
                 }
@@ -147,9 +146,9 @@ impl SppmRenderer {
     /// After a batch of `paths` light paths that stored `stored` photons: grows the buffer
     /// towards the batch limit if it overflowed, and sets the next batch's light paths to fill
     /// about 3/4 of it.
-    fn adapt_batch(&mut self, paths: u32, stored: usize) {
-        let (_, limit) = batch_photons(self.points.len(), self.settings.photons);
-        if self.photons.overflowed() && self.photons.capacity() < limit {
+    fn adapt_batch(&mut self, paths: u32, stored: usize, overflowed: bool) {
+        let limit = self.batch_limit;
+        if overflowed && self.photons.capacity() < limit {
             self.photons.grow((stored + stored / 4).min(limit));
         }
         if paths == 1 && stored > self.photons.capacity() {
@@ -178,7 +177,74 @@ impl SppmRenderer {
     }
 }
 
-/// A photon buffer for a render of `pixels` pixels and `paths` light paths per iteration.
-pub fn photon_buffer(pixels: usize, paths: u32) -> PhotonBuffer<SppmPhoton> {
-    PhotonBuffer::with_capacity(batch_photons(pixels, paths).0)
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::integrator::{Algorithm, DirectMode, Integrator, RenderSettings, RenderStart};
+    use crate::photon::PhotonBuffer;
+    use crate::pixel_bounds::PixelBounds;
+    use crate::prelude::*;
+
+    /// A closed diffuse box seen at 12 x 12 pixels, lit from under the ceiling.
+    fn closed_box() -> Scene {
+        let camera = Camera::new(
+            Vec3::new(0.0, 1.0, 0.9),
+            Vec3::new(0.0, 1.0, 0.0),
+            Vec3::Y,
+            70.0,
+            (12, 12),
+        )
+        .unwrap();
+        let mut b = SceneBuilder::new(camera);
+        let white = b.add_material(Material::new(Bsdf::diffuse(Vec3::splat(0.7)), Vec3::ZERO));
+        let lamp = b.add_material(Material::new(Bsdf::diffuse(Vec3::ZERO), Vec3::splat(10.0)));
+        let walls = [
+            ([-1.0, 0.0, -1.0], [0.0, 0.0, 2.0], [2.0, 0.0, 0.0]),
+            ([-1.0, 2.0, -1.0], [2.0, 0.0, 0.0], [0.0, 0.0, 2.0]),
+            ([-1.0, 0.0, -1.0], [2.0, 0.0, 0.0], [0.0, 2.0, 0.0]),
+            ([-1.0, 0.0, 1.0], [0.0, 2.0, 0.0], [2.0, 0.0, 0.0]),
+            ([-1.0, 0.0, -1.0], [0.0, 2.0, 0.0], [0.0, 0.0, 2.0]),
+            ([1.0, 0.0, -1.0], [0.0, 0.0, 2.0], [0.0, 2.0, 0.0]),
+        ];
+        for (c, u, v) in walls {
+            let (c, u, v) = (Vec3::from(c), Vec3::from(u), Vec3::from(v));
+            b.add_mesh(TriangleMesh::quad(c, u, v, white));
+        }
+        let (c, u, v) = (Vec3::new(-0.25, 1.98, -0.25), Vec3::X * 0.5, Vec3::Z * 0.5);
+        b.add_mesh(TriangleMesh::quad(c, u, v, lamp));
+        b.build().unwrap()
+    }
+
+    /// Batches that overflow their buffer (redone, grown, then cut to a few light paths)
+    /// give the image and statistics of one batch holding every photon, bit for bit.
+    #[test]
+    fn overflowing_and_cut_batches_equal_one_batch() {
+        let scene = closed_box();
+        let settings = RenderSettings {
+            photons: 3000,
+            direct: DirectMode::Photons,
+            ..RenderSettings::for_algorithm(&scene, Algorithm::Sppm)
+        };
+        let start =
+            || SppmRenderer::start(RenderStart::fresh(&settings, PixelBounds::full(12, 12)));
+        let mut one = start();
+        one.photons = PhotonBuffer::with_capacity(1 << 16);
+        one.paths_per_batch = u32::MAX;
+        let mut many = start();
+        many.photons = PhotonBuffer::with_capacity(8);
+        many.batch_limit = 64;
+        for _ in 0..3 {
+            let a = one.iterate_until(&scene, &|| false).unwrap();
+            let b = many.iterate_until(&scene, &|| false).unwrap();
+            assert_eq!(a.photons, b.photons);
+            assert!(
+                a.photons > 3000,
+                "the test must store photons: {}",
+                a.photons
+            );
+        }
+        assert!(many.photons.capacity() <= 64 && many.paths_per_batch < 30);
+        assert_eq!(one.statistics, many.statistics);
+        assert_eq!(one.image, many.image);
+    }
 }
