@@ -72,9 +72,16 @@ pub struct PhotonBuffer<T: PhotonRecord = Photon> {
 // every slot write before those reads.
 unsafe impl<T: PhotonRecord> Sync for PhotonBuffer<T> {}
 
-impl<T: PhotonRecord> PhotonBuffer<T> {
+impl PhotonBuffer {
     /// An empty buffer with room for `capacity` photons, allocated once.
     pub fn with_capacity(capacity: usize) -> Self {
+        Self::of_records(capacity)
+    }
+}
+
+impl<T: PhotonRecord> PhotonBuffer<T> {
+    /// An empty buffer with room for `capacity` records of type `T`, allocated once.
+    pub fn of_records(capacity: usize) -> Self {
         PhotonBuffer {
             slots: (0..capacity).map(|_| UnsafeCell::new(T::ZERO)).collect(),
             claimed: AtomicUsize::new(0),

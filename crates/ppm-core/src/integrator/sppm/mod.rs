@@ -192,7 +192,7 @@ impl Integrator for SppmRenderer {
             Radius::Auto => (0.0, true),
         };
         let (batch, batch_limit) = batch_photons(pixels, settings.photons);
-        let photons = PhotonBuffer::with_capacity(batch);
+        let photons = PhotonBuffer::of_records(batch);
         let paths_per_batch = (photons.capacity() / PHOTONS_PER_PATH).max(1) as u32;
         SppmRenderer {
             direct: film,

@@ -228,10 +228,10 @@ mod tests {
         let start =
             || SppmRenderer::start(RenderStart::fresh(&settings, PixelBounds::full(12, 12)));
         let mut one = start();
-        one.photons = PhotonBuffer::with_capacity(1 << 16);
+        one.photons = PhotonBuffer::of_records(1 << 16);
         one.paths_per_batch = u32::MAX;
         let mut many = start();
-        many.photons = PhotonBuffer::with_capacity(8);
+        many.photons = PhotonBuffer::of_records(8);
         many.batch_limit = 64;
         for _ in 0..3 {
             let a = one.iterate_until(&scene, &|| false).unwrap();
