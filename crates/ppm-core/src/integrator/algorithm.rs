@@ -12,7 +12,8 @@ pub enum Algorithm {
     /// Progressive photon mapping (`-a ppm`, the default).
     Ppm,
     /// Stochastic progressive photon mapping (`-a sppm`): per-pixel radii and statistics,
-    /// photons splatted into the camera paths' visible points and never stored.
+    /// the camera paths' visible points gather the photons of one batch of light paths at a
+    /// time, so memory grows with the pixels only.
     Sppm,
     /// Vertex connection and merging (`-a vcm`, Georgiev et al. 2012): bidirectional path
     /// tracing and photon mapping combined by MIS; one light subpath per pixel per iteration.

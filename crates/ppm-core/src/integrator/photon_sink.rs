@@ -4,8 +4,8 @@
 use crate::photon::{Photon, PhotonWriter};
 use glam::Vec3;
 
-/// Where a light path's photons go: stored in a photon buffer (`ppm`) or splatted straight
-/// into the visible points of the camera paths (`sppm`, which never stores them). Generic, so
+/// Where a light path's photons go: a photon buffer of [`crate::photon::Photon`]s (`ppm`) or
+/// of exact records, one batch of light paths at a time (`sppm`). Generic, so
 /// the light-path walk is written once and dispatched statically.
 pub trait PhotonSink {
     /// A photon at `position` that arrived from `wi` (unit, pointing away from the surface)

@@ -42,10 +42,21 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 /// Photons a [`PhotonWriter`] collects before claiming slots in the shared buffer.
 pub const BATCH: usize = 64;
 
-/// A fixed-capacity photon store that many threads append to through `&self`.
-pub struct PhotonBuffer {
-    /// The photon storage, always fully initialised (to [`Photon::ZERO`] when allocated).
-    slots: Box<[UnsafeCell<Photon>]>,
+/// A record a [`PhotonBuffer`] stores: plain data with a value that fills unused slots.
+pub trait PhotonRecord: Copy + Send + Sync {
+    /// The value of a slot nothing was written to.
+    const ZERO: Self;
+}
+
+impl PhotonRecord for Photon {
+    const ZERO: Photon = Photon::ZERO;
+}
+
+/// A fixed-capacity photon store that many threads append to through `&self`: ppm's
+/// [`Photon`]s by default, or another [`PhotonRecord`] (SPPM keeps exact directions).
+pub struct PhotonBuffer<T: PhotonRecord = Photon> {
+    /// The photon storage, always fully initialised (to [`PhotonRecord::ZERO`] when allocated).
+    slots: Box<[UnsafeCell<T>]>,
     /// Slots claimed since the last `clear`, *including* claims beyond the capacity: the
     /// photons stored are `min(claimed, capacity)` and those dropped `claimed - capacity`.
     claimed: AtomicUsize,
@@ -59,15 +70,20 @@ pub struct PhotonBuffer {
 // which cannot coexist with a `&self` used by a writer; the end of the borrow (e.g. the end of
 // a rayon `join`/`scope`/parallel iterator, which synchronise with the caller) also orders
 // every slot write before those reads.
-unsafe impl Sync for PhotonBuffer {}
+unsafe impl<T: PhotonRecord> Sync for PhotonBuffer<T> {}
 
 impl PhotonBuffer {
     /// An empty buffer with room for `capacity` photons, allocated once.
     pub fn with_capacity(capacity: usize) -> Self {
+        Self::of_records(capacity)
+    }
+}
+
+impl<T: PhotonRecord> PhotonBuffer<T> {
+    /// An empty buffer with room for `capacity` records of type `T`, allocated once.
+    pub fn of_records(capacity: usize) -> Self {
         PhotonBuffer {
-            slots: (0..capacity)
-                .map(|_| UnsafeCell::new(Photon::ZERO))
-                .collect(),
+            slots: (0..capacity).map(|_| UnsafeCell::new(T::ZERO)).collect(),
             claimed: AtomicUsize::new(0),
         }
     }
@@ -92,9 +108,7 @@ impl PhotonBuffer {
         self.clear();
         if capacity > self.capacity() {
             self.slots = Box::new([]); // free the old storage before allocating the new
-            self.slots = (0..capacity)
-                .map(|_| UnsafeCell::new(Photon::ZERO))
-                .collect();
+            self.slots = (0..capacity).map(|_| UnsafeCell::new(T::ZERO)).collect();
         }
     }
 
@@ -125,10 +139,10 @@ impl PhotonBuffer {
     }
 
     /// A batching writer for one worker; it flushes when full and when dropped.
-    pub fn writer(&self) -> PhotonWriter<'_> {
+    pub fn writer(&self) -> PhotonWriter<'_, T> {
         PhotonWriter {
             buffer: self,
-            batch: [Photon::ZERO; BATCH],
+            batch: [T::ZERO; BATCH],
             len: 0,
         }
     }
@@ -137,7 +151,7 @@ impl PhotonBuffer {
     /// (the tail of the slice) were dropped because the buffer is full.
     ///
     /// `PhotonWriter` calls this once per batch; prefer it over calling this per photon.
-    pub fn push_batch(&self, photons: &[Photon]) -> usize {
+    pub fn push_batch(&self, photons: &[T]) -> usize {
         if photons.is_empty() {
             return 0;
         }
@@ -149,7 +163,7 @@ impl PhotonBuffer {
         if stored > 0 {
             // SAFETY: slots `start..start + stored` are in bounds (`stored <= capacity - start`)
             // and were claimed by this call alone, so no other thread accesses them until the
-            // buffer is borrowed mutably. `UnsafeCell<Photon>` has the layout of `Photon`.
+            // buffer is borrowed mutably. `UnsafeCell<T>` has the layout of `T`.
             unsafe {
                 let dst = UnsafeCell::raw_get(self.slots.as_ptr().add(start));
                 std::ptr::copy_nonoverlapping(photons.as_ptr(), dst, stored);
@@ -162,20 +176,20 @@ impl PhotonBuffer {
     ///
     /// Takes `&mut self` so that no writer can still be running: the exclusive borrow proves
     /// that every `push_batch` has returned and its writes are visible here.
-    pub fn as_slice(&mut self) -> &[Photon] {
+    pub fn as_slice(&mut self) -> &[T] {
         let len = self.len();
-        // SAFETY: `UnsafeCell<Photon>` is `repr(transparent)` over `Photon`; every slot is
+        // SAFETY: `UnsafeCell<T>` is `repr(transparent)` over `T`; every slot is
         // initialised; `&mut self` excludes concurrent writers for the returned lifetime.
-        unsafe { std::slice::from_raw_parts(self.slots.as_ptr().cast::<Photon>(), len) }
+        unsafe { std::slice::from_raw_parts(self.slots.as_ptr().cast::<T>(), len) }
     }
 
     /// Bytes of photon storage.
     pub fn memory_bytes(&self) -> usize {
-        self.capacity() * std::mem::size_of::<Photon>()
+        self.capacity() * std::mem::size_of::<T>()
     }
 }
 
-impl std::fmt::Debug for PhotonBuffer {
+impl<T: PhotonRecord> std::fmt::Debug for PhotonBuffer<T> {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("PhotonBuffer")
             .field("capacity", &self.capacity())
@@ -186,16 +200,16 @@ impl std::fmt::Debug for PhotonBuffer {
 
 /// A worker's local batch of up to [`BATCH`] photons on its stack, flushed into the shared
 /// [`PhotonBuffer`] with one atomic claim when full, on [`PhotonWriter::flush`] and on drop.
-pub struct PhotonWriter<'a> {
-    buffer: &'a PhotonBuffer,
-    batch: [Photon; BATCH],
+pub struct PhotonWriter<'a, T: PhotonRecord = Photon> {
+    buffer: &'a PhotonBuffer<T>,
+    batch: [T; BATCH],
     len: usize,
 }
 
-impl PhotonWriter<'_> {
+impl<T: PhotonRecord> PhotonWriter<'_, T> {
     /// Adds one photon (flushing the batch first if it is full).
     #[inline]
-    pub fn push(&mut self, photon: Photon) {
+    pub fn push(&mut self, photon: T) {
         if self.len == BATCH {
             self.flush();
         }
@@ -210,7 +224,7 @@ impl PhotonWriter<'_> {
     }
 }
 
-impl Drop for PhotonWriter<'_> {
+impl<T: PhotonRecord> Drop for PhotonWriter<'_, T> {
     fn drop(&mut self) {
         self.flush();
     }

@@ -17,7 +17,7 @@ mod kernel;
 mod normals;
 mod record;
 
-pub use buffer::{PhotonBuffer, PhotonWriter, BATCH};
+pub use buffer::{PhotonBuffer, PhotonRecord, PhotonWriter, BATCH};
 pub use grid::HashGrid;
 pub use kernel::{epanechnikov, Kernel};
 pub use normals::GatherNormals;

@@ -3,25 +3,28 @@
 //!
 //! 1. traces one jittered camera path per pixel to a visible point ([`visible_point`], on
 //!    the shared camera-path walk), collecting emission and sampled direct light on the way (radiance transport);
-//! 2. builds a hash grid over the visible points' discs ([`grid`]);
-//! 3. traces the iteration's light paths (importance transport, the same walk as `ppm`) and
-//!    splats each photon into the visible points whose disc contains it ([`splat`]); photons
-//!    are never stored, so memory is bounded by the pixels, not by the photons;
-//! 4. updates each pixel's statistics (N, tau, R) ([`pixel`]).
+//! 2. traces the iteration's light paths (importance transport, the same walk as `ppm`) in
+//!    batches ([`photon_pass`]): each batch's photons go into a hash grid ([`photon_grid`])
+//!    and every visible point gathers those inside its disc ([`gather`]); a batch holds a
+//!    few photons per pixel, so memory is bounded by the pixels, not by the photons;
+//! 3. updates each pixel's statistics (N, tau, R) ([`pixel`]).
 //!
 //! The pixel value after i iterations is L = Ld_avg + tau_i / (N_e pi R_i^2): the average of
 //! the camera paths' emission and direct light, plus the progressive density estimate.
 //! Every sum over threads is an integer sum or is merged in pixel order, so the same seed
 //! gives the same image at any thread count.
 
-mod grid;
+mod gather;
+mod photon;
+mod photon_grid;
+mod photon_pass;
 mod pixel;
 pub(crate) mod snapshot;
-mod splat;
 mod visible_point;
 
-pub use grid::VisiblePointGrid;
-pub use pixel::{Accumulator, FixedPoint, PixelStatistics};
+pub use photon::SppmPhoton;
+pub use photon_grid::PhotonGrid;
+pub use pixel::{Accumulator, PixelStatistics};
 pub use visible_point::{trace_camera_path, SplatPoint};
 
 use super::camera_walk::RayCounters;
@@ -29,17 +32,18 @@ use super::footprint::pilot_radii;
 use super::runner::{reduce_until, Poll};
 use super::task_order::interleaved;
 use super::{
-    image_bytes, summary, trace_light_path, Aov, Features, Integrator, IterationStats,
-    MemoryEstimate, MemoryPart, PassTimes, PhotonCounters, Radius, RenderSettings, RenderStart,
-    Snapshot, Stop, Stopwatch, MAX_LIGHT_PATHS,
+    image_bytes, summary, Aov, Features, Integrator, IterationStats, MemoryEstimate, MemoryPart,
+    PassTimes, Radius, RenderSettings, RenderStart, Snapshot, Stop, Stopwatch, MAX_LIGHT_PATHS,
+    PHOTONS_PER_PATH,
 };
 use crate::film::{Film, Image};
+use crate::photon::PhotonBuffer;
 use crate::pixel_bounds::PixelBounds;
 use crate::scene::Scene;
 use crate::StateError;
 use glam::Vec3;
+use photon_pass::{batch_photons, PhotonPass};
 use rayon::prelude::*;
-use splat::{SplatCounters, Splatter};
 use std::ops::Range;
 
 /// Light paths per parallel work item of the photon pass.
@@ -50,12 +54,12 @@ const PIXELS_PER_TASK: usize = 1024;
 const COARSER: f64 = 65_536.0;
 
 /// The render state of stochastic progressive photon mapping. Every buffer has one entry per
-/// pixel (the grid at most 8 entries, one disc and two buckets); none grows with the photons
-/// per iteration.
+/// pixel, or holds one batch of photons (at most a few per pixel); none grows with the
+/// photons per iteration.
 pub struct SppmRenderer {
     settings: RenderSettings,
     /// The pixels rendered (the whole image unless cropped); every per-pixel buffer is the
-    /// window's size, and photons splat only into its visible points.
+    /// window's size, and only its visible points gather photons.
     bounds: PixelBounds,
     /// Emission and sampled direct light of the camera paths, averaged over iterations.
     direct: Film,
@@ -64,7 +68,13 @@ pub struct SppmRenderer {
     statistics: Vec<PixelStatistics>,
     points: Vec<SplatPoint>,
     accumulators: Vec<Accumulator>,
-    grid: VisiblePointGrid,
+    /// The photons of the batch of light paths being traced.
+    photons: PhotonBuffer<SppmPhoton>,
+    /// Light paths in the next batch (set from the photons the last batch stored).
+    paths_per_batch: u32,
+    /// Photons a batch may hold at most (the photon buffer grows up to it).
+    batch_limit: usize,
+    grid: PhotonGrid,
     /// Light paths traced over all iterations (N_e).
     emitted: u64,
     /// The current image, L per pixel.
@@ -77,70 +87,6 @@ pub struct SppmRenderer {
 }
 
 impl SppmRenderer {
-    /// The photon pass, splatting into the accumulators. If a fixed-point sum overflows, the
-    /// accumulators are cleared and the pass redone with a coarser code: light paths are
-    /// keyed by (seed, iteration, path), so the redone pass splats the same photons.
-    /// `None` (accumulators cleared) if `stop` says yes before one of its work items starts.
-    fn photon_pass(
-        &mut self,
-        scene: &Scene,
-        iteration: u64,
-        stop: Stop,
-    ) -> Option<(FixedPoint, SplatCounters, u64)> {
-        let paths = self.settings.photons;
-        let flux_unit = scene.total_power().max_element();
-        let mut scale = FixedPoint::FINE_SCALE;
-        let poll = Poll::new(stop);
-        loop {
-            let code = FixedPoint::new(flux_unit, scale);
-            let (settings, grid) = (&self.settings, &self.grid);
-            let (points, accumulators) = (&self.points[..], &self.accumulators[..]);
-            let tasks = paths.div_ceil(PATHS_PER_TASK);
-            let pass = reduce_until(
-                0..tasks,
-                &poll,
-                |task| {
-                    let mut splatter = Splatter::new(grid, points, accumulators, &code);
-                    let mut light = PhotonCounters::default();
-                    let end = ((task + 1) * PATHS_PER_TASK).min(paths);
-                    for path in task * PATHS_PER_TASK..end {
-                        // A path is up to max_depth bounces, each splatting into the
-                        // visible points around it: ask between paths.
-                        if poll.stopped() {
-                            break;
-                        }
-                        trace_light_path(
-                            scene,
-                            settings,
-                            iteration,
-                            path,
-                            &mut splatter,
-                            &mut light,
-                        );
-                    }
-                    (splatter.finish(), light.rays)
-                },
-                |(a, ra), (b, rb)| {
-                    let sum = SplatCounters {
-                        photons: a.photons + b.photons,
-                        splats: a.splats + b.splats,
-                        rejected: a.rejected + b.rejected,
-                    };
-                    (sum, ra + rb)
-                },
-            );
-            let Some((counters, rays)) = pass else {
-                pixel::clear(&mut self.accumulators);
-                return None;
-            };
-            if !code.overflowed() {
-                return Some((code, counters, rays));
-            }
-            pixel::clear(&mut self.accumulators);
-            scale /= COARSER;
-        }
-    }
-
     /// The image from the direct-light average and the statistics:
     /// L = Ld_avg + tau / (N_e pi R^2); returns the pixels whose photon part was not finite
     /// (left out).
@@ -187,20 +133,30 @@ impl Integrator for SppmRenderer {
         }
     }
 
-    /// Per pixel only (statistics, visible point, accumulator, the direct-light film, the
-    /// image it keeps and the copy `image()` returns, and at most 8 grid entries, a disc and
-    /// two buckets), whatever the photons per iteration.
-    fn memory_estimate(width: u32, height: u32, _settings: &RenderSettings) -> MemoryEstimate {
+    /// Per pixel (statistics, visible point, accumulator, the direct-light film, the image it
+    /// keeps and the copy `image()` returns) and one batch of photons: at most
+    /// [`photon_pass::BATCH_PHOTONS_PER_PIXEL`] per pixel, fewer when the light paths per
+    /// iteration need fewer; never more with more light paths.
+    fn memory_estimate(width: u32, height: u32, settings: &RenderSettings) -> MemoryEstimate {
         let pixels = width as u64 * height as u64;
         let per_pixel = (std::mem::size_of::<PixelStatistics>()
             + std::mem::size_of::<SplatPoint>()
             + std::mem::size_of::<Accumulator>()
             + std::mem::size_of::<Vec3>()
-            + std::mem::size_of::<glam::Vec4>()
-            + (grid::MAX_CELLS + 2) * std::mem::size_of::<u32>()) as u64;
+            + photon_grid::BYTES_PER_PIXEL) as u64;
         let mut estimate = MemoryEstimate::default();
         estimate.add(MemoryPart::Image, image_bytes(width, height));
         estimate.add(MemoryPart::Image, pixels.saturating_mul(per_pixel));
+        let (batch, limit) = batch_photons(pixels as usize, settings.photons);
+        let part = if batch < limit {
+            MemoryPart::Photons
+        } else {
+            MemoryPart::Image
+        };
+        estimate.add(
+            part,
+            (batch as u64).saturating_mul(photon_grid::BYTES_PER_PHOTON as u64),
+        );
         estimate
     }
 
@@ -235,13 +191,19 @@ impl Integrator for SppmRenderer {
             Radius::World(r) => (r, false),
             Radius::Auto => (0.0, true),
         };
+        let (batch, batch_limit) = batch_photons(pixels, settings.photons);
+        let photons = PhotonBuffer::of_records(batch);
+        let paths_per_batch = (photons.capacity() / PHOTONS_PER_PATH).max(1) as u32;
         SppmRenderer {
             direct: film,
             direct_estimates: vec![Vec3::ZERO; pixels],
             statistics: vec![PixelStatistics::new(radius); pixels],
             points: vec![SplatPoint::default(); pixels],
-            accumulators: (0..pixels).map(|_| Accumulator::default()).collect(),
-            grid: VisiblePointGrid::new(),
+            accumulators: vec![Accumulator::default(); pixels],
+            photons,
+            paths_per_batch,
+            batch_limit,
+            grid: PhotonGrid::new(),
             emitted: 0,
             image: vec![Vec3::ZERO; pixels],
             rejected: 0,
@@ -353,16 +315,17 @@ impl Integrator for SppmRenderer {
         )?;
         passes.eye = clock.lap();
 
-        // 2. The grid over the visible points.
-        let points = &self.points;
-        self.grid.build(points.len(), |i| points[i].disc());
-        passes.grid = clock.lap();
+        // 2. Photons, batch by batch, gathered by the visible points.
+        let PhotonPass {
+            code,
+            counters: splats,
+            rays: photon_rays,
+            grid_seconds,
+        } = self.photon_pass(scene, iteration, stop)?;
+        passes.grid = grid_seconds;
+        passes.photon = clock.lap() - grid_seconds;
 
-        // 3. Photons splatted into the visible points.
-        let (code, splats, photon_rays) = self.photon_pass(scene, iteration, stop)?;
-        passes.photon = clock.lap();
-
-        // 4. Per-pixel statistics and the image.
+        // 3. Per-pixel statistics and the image.
         let alpha = self.settings.alpha as f64;
         self.statistics
             .par_iter_mut()
@@ -438,13 +401,16 @@ impl Integrator for SppmRenderer {
         self.direct.rejected() + self.rejected
     }
 
-    /// Bytes held by the render state: all per pixel (statistics, visible points,
-    /// accumulators, films, grid), none per photon.
+    /// Bytes held by the render state: per pixel (statistics, visible points, accumulators,
+    /// films) and one batch of photons (buffer and grid).
     fn memory_bytes(&self) -> usize {
         let per_pixel = std::mem::size_of::<PixelStatistics>()
             + std::mem::size_of::<SplatPoint>()
             + std::mem::size_of::<Accumulator>()
             + 2 * std::mem::size_of::<Vec3>();
-        self.image.len() * per_pixel + self.direct.memory_bytes() + self.grid.memory_bytes()
+        self.image.len() * per_pixel
+            + self.direct.memory_bytes()
+            + self.photons.memory_bytes()
+            + self.grid.memory_bytes()
     }
 }

@@ -1,8 +1,8 @@
 //! Per-pixel statistics of stochastic progressive photon mapping, and the order-independent
-//! accumulators one iteration's photons are splatted into.
+//! accumulators one iteration's photons are added to.
 
 use glam::Vec3;
-use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::atomic::{AtomicBool, Ordering};
 
 /// What a pixel keeps from iteration to iteration (Hachisuka and Jensen 2009, sec. 3: the
 /// statistics of progressive photon mapping, shared by all the visible points of a pixel).
@@ -75,12 +75,12 @@ impl PixelStatistics {
 /// as unsigned fixed-point integers.
 ///
 /// Integer addition is associative, so the sum does not depend on the order in which the
-/// threads splat their photons: the same seed gives the same image at any thread count. Float
-/// atomics (or per-thread float sums merged in completion order) would not.
-#[derive(Debug, Default)]
+/// photons arrive: the same seed gives the same image at any thread count and however the
+/// light paths are cut into batches. Float sums would not.
+#[derive(Clone, Copy, Debug, Default)]
 pub struct Accumulator {
-    phi: [AtomicU64; 3],
-    m: AtomicU64,
+    phi: [u64; 3],
+    m: u64,
 }
 
 /// The fixed-point code of one iteration's splats: a flux value v is stored as
@@ -118,8 +118,8 @@ impl FixedPoint {
 
     /// Adds one photon of weighted flux `phi` (finite, non-negative) to `acc`.
     #[inline]
-    pub fn splat(&self, acc: &Accumulator, phi: Vec3) {
-        for (slot, v) in acc.phi.iter().zip(phi.to_array()) {
+    pub fn splat(&self, acc: &mut Accumulator, phi: Vec3) {
+        for (slot, v) in acc.phi.iter_mut().zip(phi.to_array()) {
             let code = (v as f64 * self.scale).round();
             // Also catches a single value beyond u64 (the cast would saturate silently).
             if code >= u64::MAX as f64 {
@@ -127,14 +127,13 @@ impl FixedPoint {
                 continue;
             }
             let code = code as u64;
-            if code > 0 {
-                let before = slot.fetch_add(code, Ordering::Relaxed);
-                if before.checked_add(code).is_none() {
-                    self.overflowed.store(true, Ordering::Relaxed);
-                }
+            let (sum, wrapped) = slot.overflowing_add(code);
+            *slot = sum;
+            if wrapped {
+                self.overflowed.store(true, Ordering::Relaxed);
             }
         }
-        acc.m.fetch_add(1, Ordering::Relaxed);
+        acc.m += 1;
     }
 
     /// True if a sum wrapped around since the accumulators were cleared.
@@ -144,23 +143,15 @@ impl FixedPoint {
 
     /// The (M, Phi) an accumulator holds, decoded, and clears it.
     pub fn take(&self, acc: &mut Accumulator) -> (u64, [f64; 3]) {
-        let m = std::mem::take(acc.m.get_mut());
-        let phi = acc
-            .phi
-            .each_mut()
-            .map(|a| std::mem::take(a.get_mut()) as f64 * self.unit);
+        let m = std::mem::take(&mut acc.m);
+        let phi = std::mem::take(&mut acc.phi).map(|a| a as f64 * self.unit);
         (m, phi)
     }
 }
 
 /// Clears accumulators (after an overflowed pass).
 pub fn clear(accumulators: &mut [Accumulator]) {
-    for acc in accumulators {
-        *acc.m.get_mut() = 0;
-        for a in &mut acc.phi {
-            *a.get_mut() = 0;
-        }
-    }
+    accumulators.fill(Accumulator::default());
 }
 
 #[cfg(test)]
@@ -211,8 +202,8 @@ mod tests {
     fn fixed_point_round_trips_and_flags_overflow() {
         let fp = FixedPoint::new(2.0, FixedPoint::FINE_SCALE);
         let mut acc = Accumulator::default();
-        fp.splat(&acc, Vec3::new(1.0, 0.25, 0.0));
-        fp.splat(&acc, Vec3::new(3.0, 0.25, 1e-6));
+        fp.splat(&mut acc, Vec3::new(1.0, 0.25, 0.0));
+        fp.splat(&mut acc, Vec3::new(3.0, 0.25, 1e-6));
         assert!(!fp.overflowed());
         let (m, phi) = fp.take(&mut acc);
         assert_eq!(m, 2);
@@ -221,9 +212,9 @@ mod tests {
         assert_eq!(fp.take(&mut acc), (0, [0.0; 3]));
         // 2^31 flux units per pixel are representable; beyond, the sum wraps and is flagged.
         let big = Vec3::splat(2.0 * 2f32.powi(31));
-        fp.splat(&acc, big);
+        fp.splat(&mut acc, big);
         assert!(!fp.overflowed());
-        fp.splat(&acc, big);
+        fp.splat(&mut acc, big);
         assert!(fp.overflowed());
     }
 }

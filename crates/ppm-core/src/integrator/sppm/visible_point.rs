@@ -14,7 +14,7 @@ pub const SPPM_EYE_STREAM: u64 = 0x7370_706d_5f65_7965;
 
 /// A pixel's visible point of this iteration as the photon pass sees it: where its camera
 /// path stopped (see [`crate::integrator::VisiblePoint`]) and what a photon arriving there is
-/// worth to the pixel. Compact: the photon pass reads one per candidate.
+/// worth to the pixel: what its gather reads ([`super::gather`]).
 #[derive(Clone, Copy, Debug, Default)]
 pub struct SplatPoint {
     /// Position (world space, camera-relative like the scene).
