@@ -6,7 +6,9 @@
 # 0.01, 0.02); the error is against a path-traced reference of REF_SECONDS. A second,
 # independent reference of the same length measures the reference's own noise:
 # relMSE(ref_a, ref_b) / 2 is what ref_a adds to every run's relMSE, and is subtracted in
-# the table ("floor"). Prints one table row per scene and width; CSVs stay in OUT.
+# the table ("floor"; a negative entry means the reference's noise hides that run's error).
+# Prints one table row per scene and width, with default / best world radius after and
+# before the subtraction; the images stay in OUT.
 # Usage: scripts/radius_study.sh [SECONDS] [REF_SECONDS] [WIDTHS] [OUT] [ALG] [SCENES...]
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -32,8 +34,8 @@ diagonal() {
   esac
 }
 
-printf '%-26s %5s %9s %9s %9s %9s %9s %9s %9s %9s %7s\n' scene width floor photons footprint \
-  r/800 r/400 r/200 r/100 r/50 ratio
+printf '%-26s %5s %9s %9s %9s %9s %9s %9s %9s %9s %7s %7s\n' scene width floor photons footprint \
+  r/800 r/400 r/200 r/100 r/50 ratio raw
 for scene in $scenes; do
   stem=$(basename "$scene" .yml)
   d=$(diagonal "$scene")
@@ -47,6 +49,7 @@ for scene in $scenes; do
     ref="$dir/ref-1000003.exr"
     floor=$(python3 -c "print($(relmse "$dir/ref-2000003.exr" "$ref") / 2)")
     row=()
+    raw=()
     for radius in photons footprint 0.00125 0.0025 0.005 0.01 0.02; do
       case $radius in
         photons|footprint) r=$radius ;;
@@ -54,10 +57,15 @@ for scene in $scenes; do
       esac
       [ -f "$dir/$radius.exr" ] || "$ppm" "$scene" -a "$alg" --width "$width" --radius "$r" \
         --time-limit "$seconds" --seed 1 -q -o "$dir/$radius.exr"
-      row+=("$(python3 -c "print(max($(relmse "$dir/$radius.exr" "$ref") - $floor, 0))")")
+      e=$(relmse "$dir/$radius.exr" "$ref")
+      raw+=("$e")
+      row+=("$(python3 -c "print($e - $floor)")")
     done
-    ratio=$(python3 -c "v = [float(x) for x in '${row[*]}'.split()]; print(round(v[0] / min(v[2:]), 3))")
-    printf '%-26s %5s %9.3g %9.3g %9.3g %9.3g %9.3g %9.3g %9.3g %9.3g %7s\n' "$stem" "$width" \
-      "$floor" "${row[@]}" "$ratio"
+    # default / best world radius, with the floor subtracted (n/a when the floor is larger
+    # than an error: the reference is too noisy for the difference) and raw.
+    ratio=$(python3 -c "v = [float(x) for x in '${row[*]}'.split()]; b = min(v[2:]); print(round(v[0] / b, 3) if b > 0 and v[0] > 0 else 'n/a')")
+    raw_ratio=$(python3 -c "v = [float(x) for x in '${raw[*]}'.split()]; print(round(v[0] / min(v[2:]), 3))")
+    printf '%-26s %5s %9.3g %9.3g %9.3g %9.3g %9.3g %9.3g %9.3g %9.3g %7s %7s\n' "$stem" "$width" \
+      "$floor" "${row[@]}" "$ratio" "$raw_ratio"
   done
 done

@@ -373,9 +373,9 @@ pub(crate) fn gather_radius(s: &str) -> Result<Radius, String> {
         "auto" | "footprint" => return Ok(Radius::Auto),
         _ => {}
     }
-    positive_finite(s).map(Radius::World).map_err(|_| {
-        format!("{s} must be a finite number > 0, `photons`, `footprint` or `auto`")
-    })
+    positive_finite(s)
+        .map(Radius::World)
+        .map_err(|_| format!("{s} must be a finite number > 0, `photons`, `footprint` or `auto`"))
 }
 
 /// A value in (0, 1].

@@ -103,12 +103,15 @@ fn the_photon_radius_does_not_depend_on_the_resolution() {
     let b = photon_radii(&high, &settings(&high), &mut RayCounters::default());
     let ratio = median(&b) / median(&a);
     assert!((ratio - 1.0).abs() < 0.05, "photons: x{ratio}");
-    let footprint = |scene: &Scene| median(&pilot_radii(scene, 3, 32, 3, &mut RayCounters::default()));
+    let footprint =
+        |scene: &Scene| median(&pilot_radii(scene, 3, 32, 3, &mut RayCounters::default()));
     let ratio = footprint(&high) / footprint(&low);
     assert!((ratio - 0.25).abs() < 0.02, "footprint: x{ratio}");
     // Every radius is positive, finite and at most the cap times the median.
     let cap = CAP * median(&b);
-    assert!(b.iter().all(|r| r.is_finite() && *r > 0.0 && *r <= cap * (1.0 + 1e-6)));
+    assert!(b
+        .iter()
+        .all(|r| r.is_finite() && *r > 0.0 && *r <= cap * (1.0 + 1e-6)));
 }
 
 /// The radius grows as sqrt(k) where the photon density is smooth: from k to 4k the median
@@ -118,8 +121,18 @@ fn the_photon_radius_grows_as_the_square_root_of_k() {
     let scene = sphere_on_floor(1.0, 24);
     let s = settings(&scene);
     let k = NEAREST_PHOTONS;
-    let a = median(&photon_radii_with(&scene, &s, k, &mut RayCounters::default()));
-    let b = median(&photon_radii_with(&scene, &s, 4 * k, &mut RayCounters::default()));
+    let a = median(&photon_radii_with(
+        &scene,
+        &s,
+        k,
+        &mut RayCounters::default(),
+    ));
+    let b = median(&photon_radii_with(
+        &scene,
+        &s,
+        4 * k,
+        &mut RayCounters::default(),
+    ));
     assert!((b / a / 2.0 - 1.0).abs() < 0.1, "{a} -> {b}");
 }
 

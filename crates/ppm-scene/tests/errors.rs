@@ -660,7 +660,10 @@ fn render_radius_is_a_number_or_auto() {
     assert_eq!(radius("0.05").unwrap(), Some(Radius::World(0.05)));
     let (b, _) = parse_scene(VALID, Path::new("d.yml")).unwrap();
     assert_eq!(b.defaults.radius, None);
-    assert_eq!(RenderSettings::new(&b.build().unwrap()).radius, Radius::Photons);
+    assert_eq!(
+        RenderSettings::new(&b.build().unwrap()).radius,
+        Radius::Photons
+    );
     for (bad, needle) in [
         ("Auto", "`Auto` is not a radius"),
         ("0", "> 0"),

@@ -85,7 +85,9 @@ fn radius_is_a_number_or_auto_and_aov_names_an_image() {
     assert_eq!(radius("footprint"), Some(Radius::Auto));
     assert_eq!(radius("photons"), Some(Radius::Photons));
     assert_eq!(radius("0.5"), Some(Radius::World(0.5)));
-    let e = parse(&["s.yml", "--radius", "knn"]).unwrap_err().to_string();
+    let e = parse(&["s.yml", "--radius", "knn"])
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("`photons`, `footprint` or `auto`"), "{e}");
     assert_eq!(parse(&["s.yml"]).unwrap().render.settings.radius, None);
     let r = parse(&["s.yml", "--aov", "radius"]).unwrap().render;

@@ -108,7 +108,11 @@ pub fn nearest_photon_distance(
 
 /// The pilot photon map: [`PILOT_LIGHT_PATHS`] light paths of `settings` (their depth and
 /// direct-light mode) on the pilot's own stream.
-fn pilot_photons(scene: &Scene, settings: &RenderSettings, counters: &mut RayCounters) -> Vec<Photon> {
+fn pilot_photons(
+    scene: &Scene,
+    settings: &RenderSettings,
+    counters: &mut RayCounters,
+) -> Vec<Photon> {
     let pilot = RenderSettings {
         seed: settings.seed ^ PILOT_PHOTON_STREAM,
         photons: PILOT_LIGHT_PATHS,
@@ -196,7 +200,15 @@ fn pixel_distances(
         .par_iter()
         .map_init(Vec::new, |scratch, p| {
             p.as_ref().and_then(|p| {
-                nearest_photon_distance(&grid, p.position, k, max_bounce(p), typical, limit, scratch)
+                nearest_photon_distance(
+                    &grid,
+                    p.position,
+                    k,
+                    max_bounce(p),
+                    typical,
+                    limit,
+                    scratch,
+                )
             })
         })
         .collect()
@@ -207,7 +219,11 @@ fn pixel_distances(
 /// median of the found radii, pixels with fewer than k photons within the cap the cap; if no
 /// pixel finds k photons (a scene that stores none), the footprint rule stands in
 /// ([`super::pilot_radii`]).
-pub fn photon_radii(scene: &Scene, settings: &RenderSettings, counters: &mut RayCounters) -> Vec<f32> {
+pub fn photon_radii(
+    scene: &Scene,
+    settings: &RenderSettings,
+    counters: &mut RayCounters,
+) -> Vec<f32> {
     photon_radii_with(scene, settings, NEAREST_PHOTONS, counters)
 }
 
@@ -282,7 +298,12 @@ mod tests {
         let photons: Vec<Photon> = (0..n)
             .map(|i| {
                 let u = rng.uniform2();
-                Photon::new(Vec3::new(u.x, u.y, 0.0), Vec3::Z, Vec3::ONE, Photon::key(i, 1))
+                Photon::new(
+                    Vec3::new(u.x, u.y, 0.0),
+                    Vec3::Z,
+                    Vec3::ONE,
+                    Photon::key(i, 1),
+                )
             })
             .collect();
         let mut grid = HashGrid::new();
@@ -303,7 +324,10 @@ mod tests {
             // 1 / sqrt(400 k) (at most 2.5%); 4 of them.
             let mean = sum / queries as f64;
             let rel = (mean / expected - 1.0).abs();
-            assert!(rel < 4.0 / (400.0 * k as f64).sqrt(), "k {k}: {mean:e} vs {expected:e}");
+            assert!(
+                rel < 4.0 / (400.0 * k as f64).sqrt(),
+                "k {k}: {mean:e} vs {expected:e}"
+            );
         }
         // Photons of more bounces than allowed are not counted: none with bounce 0.
         assert_eq!(
@@ -320,11 +344,19 @@ mod tests {
             .map(|i| {
                 let u = rng.uniform2();
                 let v = rng.uniform();
-                Photon::new(Vec3::new(u.x, u.y, v), Vec3::Z, Vec3::ONE, Photon::key(i, 1))
+                Photon::new(
+                    Vec3::new(u.x, u.y, v),
+                    Vec3::Z,
+                    Vec3::ONE,
+                    Photon::key(i, 1),
+                )
             })
             .collect();
         let p = Vec3::new(0.4, 0.6, 0.5);
-        let mut all: Vec<f32> = photons.iter().map(|q| q.position.distance_squared(p)).collect();
+        let mut all: Vec<f32> = photons
+            .iter()
+            .map(|q| q.position.distance_squared(p))
+            .collect();
         all.sort_by(f32::total_cmp);
         let mut grid = HashGrid::new();
         grid.build(&photons, 0.05);

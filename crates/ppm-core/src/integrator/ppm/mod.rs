@@ -176,7 +176,8 @@ impl Integrator for PpmRenderer {
     /// The photons, the radius from the image's first iteration to its last (for `auto` the
     /// factor every pixel's own radius shrank by), alpha and the direct light.
     fn settings_words(settings: &RenderSettings, image: Range<u64>) -> String {
-        let radius = summary::scheduled_radius(settings, image, |rule| format!("{rule} (per pixel)"));
+        let radius =
+            summary::scheduled_radius(settings, image, |rule| format!("{rule} (per pixel)"));
         summary::photon_mapping(settings, &radius)
     }
 
