@@ -16,8 +16,8 @@
 //!
 //! where d_k(x) is the distance from x to the k-th nearest photon (k = [`NEAREST_PHOTONS`])
 //! among those a gather at x would count (bounce limit of [`gather_limit`]), in a pilot map of
-//! [`PILOT_LIGHT_PATHS`] light paths traced with the render's depth and direct-light mode on
-//! a random stream of their own. Pixels whose pilot finds no diffuse surface, or fewer than k
+//! [`PILOT_LIGHT_PATHS`] light paths traced with the render's depth and direct-light mode
+//! (every bounce for `vcm`, which merges them all) on a random stream of their own. Pixels whose pilot finds no diffuse surface, or fewer than k
 //! photons within the cap, take the median (no surface) or the cap (too few photons).
 //!
 //! - Units and extent: scaling the scene scales every distance, photon positions with it,
@@ -40,8 +40,8 @@
 use super::camera_walk::RayCounters;
 use super::footprint::{pilot_points, PilotPoint};
 use super::{
-    gather_limit, trace_light_path, PhotonCounters, Radius, RenderSettings, DEFAULT_PHOTONS,
-    PHOTONS_PER_PATH,
+    gather_limit, trace_light_path, DirectMode, PhotonCounters, Radius, RenderSettings, Setting,
+    DEFAULT_PHOTONS, PHOTONS_PER_PATH,
 };
 use crate::photon::{HashGrid, Photon, PhotonBuffer};
 use crate::scene::Scene;
@@ -106,16 +106,25 @@ pub fn nearest_photon_distance(
     }
 }
 
-/// The pilot photon map: [`PILOT_LIGHT_PATHS`] light paths of `settings` (their depth and
-/// direct-light mode) on the pilot's own stream.
+/// The pilot photon map: [`PILOT_LIGHT_PATHS`] light paths of `settings` (their depth, and
+/// their direct-light mode where the algorithm reads it) on the pilot's own stream.
 fn pilot_photons(
     scene: &Scene,
     settings: &RenderSettings,
     counters: &mut RayCounters,
 ) -> Vec<Photon> {
+    // The photons the render's estimate counts: with `--direct sampled` ppm and sppm store
+    // none of the first bounce; vcm merges light vertices of every bounce (and does not read
+    // the direct-light mode, so its radius must not depend on it).
+    let direct = if settings.algorithm.reads(Setting::Direct) {
+        settings.direct
+    } else {
+        DirectMode::Photons
+    };
     let pilot = RenderSettings {
         seed: settings.seed ^ PILOT_PHOTON_STREAM,
         photons: PILOT_LIGHT_PATHS,
+        direct,
         ..settings.clone()
     };
     let mut buffer = PhotonBuffer::with_capacity(PILOT_LIGHT_PATHS as usize * PHOTONS_PER_PATH);
