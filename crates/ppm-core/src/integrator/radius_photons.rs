@@ -48,9 +48,10 @@ use crate::scene::Scene;
 use glam::Vec3;
 use rayon::prelude::*;
 
-/// k: the photons a pixel's first disc holds in the pilot map. Chosen by equal-time error
-/// on a glass scene and a Cornell box at 128 to 512 pixels (docs/performance.md, "A radius
-/// from the photons"); the density estimate's relative noise in the first iterations is
+/// k: the photons a pixel's first disc holds in the pilot map. A round value within the 16
+/// to 128 usual for k-nearest photon maps, checked by equal-time error against fixed world
+/// radii on a glass scene and a Cornell box at 128 and 512 pixels (docs/performance.md, "A
+/// radius from the photons"); the density estimate's relative noise in the first iterations is
 /// about 1 / sqrt(k) times [`PILOT_LIGHT_PATHS`] over the photons per iteration.
 pub const NEAREST_PHOTONS: usize = 32;
 
