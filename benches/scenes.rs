@@ -84,10 +84,9 @@ fn photon_map(c: &mut Criterion) {
     ] {
         let scene = load(name);
         let settings = RenderSettings::new(&scene);
-        let radius0 = scene
-            .defaults
-            .radius
-            .expect("the shipped scenes give a radius");
+        let Some(Radius::World(radius0)) = scene.defaults.radius else {
+            panic!("the shipped scenes give a world radius")
+        };
         let photons = photons(&scene, &settings, paths);
         let points = gather_points(&scene, 50_000);
         let mut g = config(c, group);

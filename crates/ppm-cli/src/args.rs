@@ -202,10 +202,10 @@ pub struct SettingsArgs {
     /// and one per pixel for sppm].
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..), allow_negative_numbers = true)]
     pub photons: Option<u32>,
-    /// ppm, sppm and vcm: initial gather radius in scene units, or `auto` (each pixel's from its
-    /// footprint: 2 pixel widths at its first diffuse visible point) [default: scene file, or
-    /// auto].
-    #[arg(long, value_name = "R|auto", value_parser = gather_radius, allow_negative_numbers = true)]
+    /// ppm, sppm and vcm: initial gather radius in scene units, or `photons` (each pixel's
+    /// distance to its 32nd nearest photon of a pilot photon map), or `footprint` = `auto`
+    /// (2 pixel widths at its first diffuse visible point) [default: scene file, or photons].
+    #[arg(long, value_name = "R|photons|footprint|auto", value_parser = gather_radius, allow_negative_numbers = true)]
     pub radius: Option<Radius>,
     /// ppm, sppm and vcm: radius reduction alpha in (0, 1].
     #[arg(long, value_parser = unit_interval, allow_negative_numbers = true)]
@@ -366,14 +366,16 @@ fn positive_finite(s: &str) -> Result<f32, String> {
     }
 }
 
-/// `auto` or a finite number > 0.
+/// `photons`, `footprint` or its older name `auto`, or a finite number > 0.
 pub(crate) fn gather_radius(s: &str) -> Result<Radius, String> {
-    if s == "auto" {
-        return Ok(Radius::Auto);
+    match s {
+        "photons" => return Ok(Radius::Photons),
+        "auto" | "footprint" => return Ok(Radius::Auto),
+        _ => {}
     }
     positive_finite(s)
         .map(Radius::World)
-        .map_err(|_| format!("{s} must be a finite number > 0 or `auto`"))
+        .map_err(|_| format!("{s} must be a finite number > 0, `photons`, `footprint` or `auto`"))
 }
 
 /// A value in (0, 1].

@@ -16,9 +16,10 @@ pub struct RenderDefaults {
     pub max_depth: u32,
     /// Light paths per photon-mapping iteration; `None` leaves it to the algorithm.
     pub photons: Option<u32>,
-    /// Initial gather radius in scene units; `None` (`radius: auto` or no radius in the file)
-    /// derives each pixel's from its footprint ([`crate::integrator::Radius::Auto`]).
-    pub radius: Option<f32>,
+    /// Initial gather radius: a world radius, `auto` (each pixel's from its footprint,
+    /// [`crate::integrator::Radius::Auto`]) or `photons`; `None` (no radius in the file) leaves
+    /// it to the default ([`crate::integrator::Radius::Photons`]).
+    pub radius: Option<crate::integrator::Radius>,
     /// Radius reduction parameter of progressive photon mapping.
     pub alpha: f32,
     /// The integrator the file asks for (`render.algorithm`); `None`: the front end's default.

@@ -25,7 +25,7 @@ fn changed(settings: &RenderSettings, setting: Setting) -> RenderSettings {
         Setting::Photons => s.photons += s.photons / 2,
         Setting::Radius => {
             s.radius = match s.radius {
-                Radius::Auto => Radius::World(0.08),
+                Radius::Auto | Radius::Photons => Radius::World(0.08),
                 Radius::World(r) => Radius::World(r * 1.5),
             }
         }

@@ -218,8 +218,7 @@ pub fn build(
             defaults.photons = Some(p.0);
         }
         if let Some(radius) = r.radius {
-            // `auto` (None) is also the default.
-            defaults.radius = radius.0;
+            defaults.radius = Some(radius.0);
         }
         if let Some(a) = r.alpha {
             defaults.alpha = a.0;

@@ -25,7 +25,7 @@ use ppm_core::bsdf::{
 };
 use ppm_core::camera::Camera;
 use ppm_core::geometry::{MeshInstance, Sphere, TriangleMesh};
-use ppm_core::integrator::Algorithm;
+use ppm_core::integrator::{Algorithm, Radius};
 use ppm_core::light::{
     EnvironmentLight, EnvironmentMap, Light, PointLight, SphereLight, SpotLight, TriangleLight,
 };
@@ -538,7 +538,15 @@ impl Fingerprint {
             .record("RenderDefaults")
             .field("max_depth", |f| f.u32(max_depth))
             .field("photons", |f| f.option(photons, Self::u32))
-            .field("radius", |f| f.option(radius, Self::f32))
+            // As before `photons` existed (a world radius, or None for `auto` and for no
+            // radius, which meant `auto`), so that earlier scenes keep their fingerprints and
+            // their saved renders still resume; `photons`, which no earlier scene names, by
+            // its word.
+            .field("radius", |f| match radius {
+                Some(Radius::World(r)) => f.option(Some(r), Self::f32),
+                Some(Radius::Photons) => f.text("Some(photons)"),
+                Some(Radius::Auto) | None => f.text("None"),
+            })
             .field("alpha", |f| f.f32(alpha));
         match algorithm {
             Some(a) => record.field("algorithm", |f| {

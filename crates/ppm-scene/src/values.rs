@@ -159,9 +159,10 @@ impl<R: Rule> Visitor<'_> for NumVisitor<R> {
     }
 }
 
-/// The initial gather radius of `render:`: a number > 0 in scene units, or `auto` (each
-/// pixel's from its footprint). `None` stands for `auto`.
-pub struct GatherRadius(pub Option<f32>);
+/// The initial gather radius of `render:`: a number > 0 in scene units, `auto` or
+/// `footprint` (each pixel's from its footprint), or `photons` (each pixel's from the
+/// photons; the default).
+pub struct GatherRadius(pub ppm_core::integrator::Radius);
 
 impl<'de> Deserialize<'de> for GatherRadius {
     fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
@@ -169,10 +170,11 @@ impl<'de> Deserialize<'de> for GatherRadius {
         impl Visitor<'_> for V {
             type Value = GatherRadius;
             fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-                write!(f, "{} or `auto`", Positive::WHAT)
+                write!(f, "{} or `photons`, `footprint`, `auto`", Positive::WHAT)
             }
             fn visit_f64<E: de::Error>(self, x: f64) -> Result<GatherRadius, E> {
-                NumVisitor::<Positive>::check(x).map(|n| GatherRadius(Some(n.0)))
+                NumVisitor::<Positive>::check(x)
+                    .map(|n| GatherRadius(ppm_core::integrator::Radius::World(n.0)))
             }
             fn visit_i64<E: de::Error>(self, x: i64) -> Result<GatherRadius, E> {
                 self.visit_f64(x as f64)
@@ -181,13 +183,14 @@ impl<'de> Deserialize<'de> for GatherRadius {
                 self.visit_f64(x as f64)
             }
             fn visit_str<E: de::Error>(self, s: &str) -> Result<GatherRadius, E> {
-                if s == "auto" {
-                    Ok(GatherRadius(None))
-                } else {
-                    Err(E::custom(format!(
-                        "`{s}` is not a radius, expected {} or `auto`",
+                use ppm_core::integrator::Radius;
+                match s {
+                    "photons" => Ok(GatherRadius(Radius::Photons)),
+                    "auto" | "footprint" => Ok(GatherRadius(Radius::Auto)),
+                    _ => Err(E::custom(format!(
+                        "`{s}` is not a radius, expected {} or `photons`, `footprint`, `auto`",
                         Positive::WHAT
-                    )))
+                    ))),
                 }
             }
         }

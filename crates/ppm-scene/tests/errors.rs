@@ -4,6 +4,7 @@
 mod common;
 
 use common::{write_files, CAMERA, VALID};
+use ppm_core::integrator::{Radius, RenderSettings};
 use ppm_scene::{load_scene_builder, parse_scene, LoadError};
 use std::path::Path;
 
@@ -597,7 +598,7 @@ fn optional_parts_have_documented_defaults() {
             b.defaults.radius,
             b.defaults.alpha
         ),
-        (7, Some(1234), Some(0.05), 0.5)
+        (7, Some(1234), Some(Radius::World(0.05)), 0.5)
     );
 }
 
@@ -650,19 +651,26 @@ fn render_radius_is_a_number_or_auto() {
         )
         .map(|(b, _)| b.defaults.radius)
     };
-    // auto and an absent radius both mean per-pixel footprints (None); numbers keep their
-    // meaning (format v1).
-    assert_eq!(radius("auto").unwrap(), None);
-    assert_eq!(radius("2").unwrap(), Some(2.0));
-    assert_eq!(radius("0.05").unwrap(), Some(0.05));
+    // `auto` keeps meaning per-pixel footprints, also spelt `footprint`; `photons` is the
+    // default (None: no radius in the file); numbers keep their meaning (format v1).
+    assert_eq!(radius("auto").unwrap(), Some(Radius::Auto));
+    assert_eq!(radius("footprint").unwrap(), Some(Radius::Auto));
+    assert_eq!(radius("photons").unwrap(), Some(Radius::Photons));
+    assert_eq!(radius("2").unwrap(), Some(Radius::World(2.0)));
+    assert_eq!(radius("0.05").unwrap(), Some(Radius::World(0.05)));
     let (b, _) = parse_scene(VALID, Path::new("d.yml")).unwrap();
     assert_eq!(b.defaults.radius, None);
+    assert_eq!(
+        RenderSettings::new(&b.build().unwrap()).radius,
+        Radius::Photons
+    );
     for (bad, needle) in [
         ("Auto", "`Auto` is not a radius"),
         ("0", "> 0"),
         ("-1", "> 0"),
         (".nan", "> 0"),
-        ("[1, 2]", "or `auto`"),
+        ("[1, 2]", "`photons`, `footprint`, `auto`"),
+        ("photon", "`photon` is not a radius"),
     ] {
         let e = error(&format!("{VALID}render: {{ radius: {bad} }}\n"));
         has(&e, &["render.radius", needle]);

@@ -99,7 +99,9 @@ fn check_builder(b: &SceneBuilder) {
     let d = b.defaults;
     assert!(d.max_depth >= 1 && d.alpha > 0.0 && d.alpha <= 1.0);
     assert!(d.photons.is_none_or(|p| p >= 1));
-    assert!(d.radius.is_none_or(|r| r.is_finite() && r > 0.0));
+    assert!(
+        !matches!(d.radius, Some(ppm_core::integrator::Radius::World(r)) if !(r.is_finite() && r > 0.0))
+    );
 }
 
 /// Errors name a file: the message starts with a path ending in a known extension.

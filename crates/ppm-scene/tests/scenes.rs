@@ -6,6 +6,7 @@ mod common;
 use common::scenes_dir;
 use glam::{Vec2, Vec3};
 use ppm_core::bsdf::Bsdf;
+use ppm_core::integrator::Radius;
 use ppm_scene::obj::{load_obj, ObjMaterials};
 use ppm_scene::{load_scene, load_scene_builder};
 use ppm_test_support::meshes as make_meshes;
@@ -65,7 +66,7 @@ fn cornell_scenes_have_the_specified_setup() {
             "{name}"
         );
         assert!(
-            d.radius.is_some_and(|r| (0.01..=0.05).contains(&r)),
+            matches!(d.radius, Some(Radius::World(r)) if (0.01..=0.05).contains(&r)),
             "{name}"
         );
         // The light: emission [17, 12, 4] on albedo 0.78.

@@ -82,7 +82,13 @@ fn radius_is_a_number_or_auto_and_aov_names_an_image() {
             .radius
     };
     assert_eq!(radius("auto"), Some(Radius::Auto));
+    assert_eq!(radius("footprint"), Some(Radius::Auto));
+    assert_eq!(radius("photons"), Some(Radius::Photons));
     assert_eq!(radius("0.5"), Some(Radius::World(0.5)));
+    let e = parse(&["s.yml", "--radius", "knn"])
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("`photons`, `footprint` or `auto`"), "{e}");
     assert_eq!(parse(&["s.yml"]).unwrap().render.settings.radius, None);
     let r = parse(&["s.yml", "--aov", "radius"]).unwrap().render;
     assert_eq!(r.aov, [AovArg::Radius]);

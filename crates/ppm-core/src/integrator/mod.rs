@@ -15,6 +15,7 @@ mod path;
 mod photon_sink;
 mod ppm;
 mod radius;
+mod radius_photons;
 mod renderer;
 mod runner;
 mod settings;
@@ -44,6 +45,10 @@ pub use path::PathTracer;
 pub use photon_sink::PhotonSink;
 pub use ppm::{density_estimate, gather_limit, GatherContext, PpmRenderer};
 pub use radius::{smallest_radius, RadiusSchedule};
+pub use radius_photons::{
+    initial_pixel_radii, nearest_photon_distance, photon_radii, photon_radii_with, CAP,
+    NEAREST_PHOTONS, PILOT_LIGHT_PATHS, PILOT_PHOTON_STREAM,
+};
 pub use renderer::{Aov, Features, Integrator, Renderer};
 pub use runner::Stop;
 pub use settings::{

@@ -49,17 +49,32 @@ pub enum Radius {
     /// One initial radius for every pixel, in scene units (`--radius R`, `render: { radius: R }`).
     World(f32),
     /// Each pixel's initial radius from its footprint at its first diffuse visible point
-    /// (`--radius auto`, `render: { radius: auto }`, and the default): see
+    /// (`--radius auto` or `footprint`, `render: { radius: auto }`): see
     /// [`crate::integrator::footprint_radius`].
     Auto,
+    /// Each pixel's initial radius from the photons: its distance to the k-th nearest photon
+    /// of a pilot photon map at its first diffuse visible point (`--radius photons`,
+    /// `render: { radius: photons }`, and the default): see
+    /// [`crate::integrator::photon_radii`].
+    Photons,
+}
+
+impl Radius {
+    /// Whether every pixel has its own initial radius, set by a pilot pass before the first
+    /// iteration (`auto`, `photons`), rather than one for all (a world radius).
+    pub fn per_pixel(&self) -> bool {
+        !matches!(self, Radius::World(_))
+    }
 }
 
 impl std::fmt::Display for Radius {
-    /// As the command line and the scene format spell it: the radius in scene units, or `auto`.
+    /// As the command line and the scene format spell it: the radius in scene units, `auto`
+    /// (the footprint rule, also spelt `footprint`) or `photons`.
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
             Radius::World(r) => write!(f, "{r}"),
             Radius::Auto => f.write_str("auto"),
+            Radius::Photons => f.write_str("photons"),
         }
     }
 }
@@ -80,8 +95,9 @@ pub struct RenderSettings {
     pub light_strategy: LightStrategy,
     /// Photon mapping: light paths per iteration (VCM traces one per pixel and ignores it).
     pub photons: u32,
-    /// Photon mapping: initial gather radius (scene units, or per pixel from its footprint);
-    /// VCM: initial merge radius (scene units, or `auto`: the median pixel footprint).
+    /// Photon mapping: initial gather radius (scene units, or per pixel from its footprint or
+    /// from the pilot photons); VCM: initial merge radius (scene units, or the median of the
+    /// per-pixel rule's radii).
     pub radius: Radius,
     /// Photon mapping and VCM: radius reduction r_{i+1}^2 = r_i^2 (i + alpha) / (i + 1).
     pub alpha: f32,
@@ -91,9 +107,10 @@ pub struct RenderSettings {
 
 impl RenderSettings {
     /// Defaults, taking what the scene file says where it says anything (the algorithm:
-    /// `ppm` unless the file names one). Without a radius in
-    /// the scene the initial radius is [`Radius::Auto`]: a few pixel footprints at each pixel's
-    /// visible point, which depends neither on the scene's units nor on its extent. alpha
+    /// `ppm` unless the file names one). Without a radius in the scene the initial radius is
+    /// [`Radius::Photons`]: each pixel's distance to its k-th nearest photon of a pilot photon
+    /// map of fixed size, which depends neither on the scene's units, nor on its extent, nor
+    /// on the image's resolution. alpha
     /// defaults to 2/3, the asymptotically best value for surfaces (Knaus and Zwicker 2011).
     pub fn new(scene: &Scene) -> Self {
         let d = scene.defaults;
@@ -104,7 +121,7 @@ impl RenderSettings {
             rr_depth: 3,
             light_strategy: LightStrategy::Mis,
             photons: d.photons.unwrap_or(DEFAULT_PHOTONS),
-            radius: d.radius.map_or(Radius::Auto, Radius::World),
+            radius: d.radius.unwrap_or(Radius::Photons),
             alpha: d.alpha,
             // Light sampling removes the noisiest part of the density estimate (direct light)
             // for one shadow ray per pixel: the lower error at equal time on the shipped
@@ -139,13 +156,13 @@ impl RenderSettings {
     }
 
     /// The radius schedule at the 1-based `iteration` (Knaus and Zwicker's r_i for a world
-    /// radius; for `auto` the factor s_i every pixel's own r_1 has shrunk by, started at 1):
+    /// radius; for per-pixel radii the factor s_i every pixel's own r_1 has shrunk by, started at 1):
     /// the one place the schedule's start is read from the settings, so that every render,
     /// shard and summary of these settings uses the same radii bit for bit.
     pub fn radius_schedule_at(&self, iteration: u64) -> RadiusSchedule {
         let start = match self.radius {
             Radius::World(r) => r,
-            Radius::Auto => 1.0,
+            Radius::Auto | Radius::Photons => 1.0,
         };
         RadiusSchedule::at_iteration(start, self.alpha, iteration)
     }

@@ -41,18 +41,20 @@ pub(crate) fn schedule_range(settings: &RenderSettings, image: Range<u64>) -> (f
     (at(image.start + 1), at(image.end))
 }
 
-/// The radius of a schedule shared by every pixel (scaled per pixel with `auto`, which
-/// `auto_words` describes): `0.03 -> 0.0112`, or `<auto_words>, shrunk x1 -> x0.37`.
+/// The radius of a schedule shared by every pixel (scaled per pixel by a per-pixel rule,
+/// which `rule_words(rule)` describes, `rule` being `auto` or `photons`): `0.03 -> 0.0112`,
+/// or `<rule_words>, shrunk x1 -> x0.37`.
 pub(crate) fn scheduled_radius(
     settings: &RenderSettings,
     image: Range<u64>,
-    auto_words: &str,
+    rule_words: impl Fn(&str) -> String,
 ) -> String {
     let (first, last) = schedule_range(settings, image);
     match settings.radius {
         Radius::World(_) => format!("{} -> {}", significant(first), significant(last)),
-        Radius::Auto => format!(
-            "{auto_words}, shrunk x{} -> x{}",
+        Radius::Auto | Radius::Photons => format!(
+            "{}, shrunk x{} -> x{}",
+            rule_words(&settings.radius.to_string()),
             significant(first),
             significant(last)
         ),

@@ -167,7 +167,11 @@ fn write_body(b: &SceneBuilder, ctx: &mut Context) -> Result<String, LoadError> 
         y.field(1, "photons", &p.to_string());
     }
     if let Some(r) = d.radius {
-        y.field(1, "radius", &num(r));
+        let r = match r {
+            ppm_core::integrator::Radius::World(r) => num(r),
+            rule => rule.to_string(),
+        };
+        y.field(1, "radius", &r);
     }
     y.field(1, "alpha", &num(d.alpha));
     if let Some(a) = d.algorithm {

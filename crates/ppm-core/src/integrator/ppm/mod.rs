@@ -2,9 +2,9 @@
 //! Knaus and Zwicker 2011: every iteration is an independent photon-mapping estimate with
 //! the iteration's radius, and the image is their average.
 //!
-//! The radius is global (`Radius::World`) or per pixel (`Radius::Auto`): each pixel p then
-//! starts at its own r_1(p), fixed by a pilot pass before the first iteration
-//! ([`pilot_radii`]), and runs its own Knaus-Zwicker sequence
+//! The radius is global (`Radius::World`) or per pixel (`Radius::Photons`, `Radius::Auto`):
+//! each pixel p then starts at its own r_1(p), fixed by a pilot pass before the first
+//! iteration ([`initial_pixel_radii`]), and runs its own Knaus-Zwicker sequence
 //! r_{i+1}(p)^2 = r_i(p)^2 (i + alpha) / (i + 1) (their eq. 19). This is still their
 //! estimator, pixel by pixel: their analysis is of one measurement point, whose radius
 //! sequence is any deterministic sequence with that ratio; nothing in it couples pixels. The
@@ -25,12 +25,13 @@ mod eye_pass;
 pub use eye_pass::{density_estimate, gather_limit, GatherContext};
 
 use super::camera_walk::RayCounters;
-use super::footprint::{pilot_points, pilot_radii, quantile};
+use super::footprint::{pilot_points, quantile};
+use super::radius_photons::initial_pixel_radii;
 use super::runner::{reduce_until, Poll};
 use super::task_order::interleaved;
 use super::{
     image_bytes, summary, trace_light_path, Aov, Features, Integrator, IterationStats,
-    MemoryEstimate, MemoryPart, PassTimes, PhotonCounters, Radius, RadiusSchedule, RenderSettings,
+    MemoryEstimate, MemoryPart, PassTimes, PhotonCounters, RadiusSchedule, RenderSettings,
     RenderStart, Stop, Stopwatch, BYTES_PER_PHOTON, MAX_LIGHT_PATHS, PHOTONS_PER_PATH,
 };
 use crate::film::{Film, Image};
@@ -53,7 +54,7 @@ const PIXELS_PER_TASK: usize = 1024;
 /// up to 900 times the photons per cell.
 const GRID_QUANTILE: f32 = 0.9;
 
-/// Per-pixel initial radii (`Radius::Auto`), fixed at the first iteration.
+/// Per-pixel initial radii (`Radius::Photons`, `Radius::Auto`), fixed at the first iteration.
 struct PixelRadii {
     /// r_1(p) for each pixel, row-major.
     initial: Vec<f32>,
@@ -69,9 +70,9 @@ pub struct PpmRenderer {
     /// whole scene either way, keyed by light path, so a crop changes no pixel.
     bounds: PixelBounds,
     /// The radius of the iteration (`Radius::World`), or the factor s_i by which every
-    /// pixel's radius has shrunk (`Radius::Auto`, started at 1).
+    /// pixel's radius has shrunk (per-pixel radii, started at 1).
     schedule: RadiusSchedule,
-    /// `Radius::Auto`: each pixel's r_1, from the pilot pass (made by the first iteration).
+    /// Per-pixel radii: each pixel's r_1, from the pilot pass (made by the first iteration).
     pixel_radii: Option<PixelRadii>,
     /// The schedule's value in the last iteration (for [`PpmRenderer::radius_image`]).
     last_scale: Option<f32>,
@@ -175,7 +176,8 @@ impl Integrator for PpmRenderer {
     /// The photons, the radius from the image's first iteration to its last (for `auto` the
     /// factor every pixel's own radius shrank by), alpha and the direct light.
     fn settings_words(settings: &RenderSettings, image: Range<u64>) -> String {
-        let radius = summary::scheduled_radius(settings, image, "auto (per pixel)");
+        let radius =
+            summary::scheduled_radius(settings, image, |rule| format!("{rule} (per pixel)"));
         summary::photon_mapping(settings, &radius)
     }
 
@@ -183,7 +185,7 @@ impl Integrator for PpmRenderer {
     /// Knaus and Zwicker's PPM carries nothing but the film between iterations (the default
     /// [`Integrator::from_snapshot`]): iteration i's photons and eye paths depend on
     /// (seed, i) and its radius on i alone, so the schedule restarts at the film's next
-    /// iteration (and `Radius::Auto`'s pilot, keyed by (seed, pixel), is traced again to the
+    /// iteration (and the per-pixel radii's pilot, keyed by the seed, is traced again to the
     /// same radii).
     fn start(start: RenderStart) -> Self {
         let RenderStart {
@@ -210,7 +212,7 @@ impl Integrator for PpmRenderer {
         }
     }
 
-    /// Renders one iteration. With `Radius::Auto` the first one starts with the pilot pass
+    /// Renders one iteration. With per-pixel radii the first one starts with the pilot pass
     /// (its rays count as eye rays, its time as the eye pass's).
     ///
     /// Abandoned (film and radius untouched, `None`) if `stop` says
@@ -223,11 +225,11 @@ impl Integrator for PpmRenderer {
         let mut passes = PassTimes::default();
         let mut clock = Stopwatch::start();
         let mut pilot = RayCounters::default();
-        if self.settings.radius == Radius::Auto && self.pixel_radii.is_none() {
-            let s = &self.settings;
-            let initial = pilot_radii(scene, s.seed, s.max_depth, s.rr_depth, &mut pilot);
-            let grid = quantile(&initial, GRID_QUANTILE);
-            self.pixel_radii = Some(PixelRadii { initial, grid });
+        if self.settings.radius.per_pixel() && self.pixel_radii.is_none() {
+            if let Some(initial) = initial_pixel_radii(scene, &self.settings, &mut pilot) {
+                let grid = quantile(&initial, GRID_QUANTILE);
+                self.pixel_radii = Some(PixelRadii { initial, grid });
+            }
         }
         passes.eye = clock.lap();
         let scale = self.schedule.radius();

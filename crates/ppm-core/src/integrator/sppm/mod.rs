@@ -28,7 +28,7 @@ pub use pixel::{Accumulator, PixelStatistics};
 pub use visible_point::{trace_camera_path, SplatPoint};
 
 use super::camera_walk::RayCounters;
-use super::footprint::pilot_radii;
+use super::radius_photons::initial_pixel_radii;
 use super::runner::{reduce_until, Poll};
 use super::task_order::interleaved;
 use super::{
@@ -81,8 +81,8 @@ pub struct SppmRenderer {
     image: Vec<Vec3>,
     /// Splats dropped as NaN or infinite, and pixels whose photon estimate was not finite.
     rejected: u64,
-    /// `Radius::Auto` before the first iteration: every pixel's R_1 is still to be set from
-    /// its footprint ([`pilot_radii`]).
+    /// A per-pixel rule before the first iteration: every pixel's R_1 is still to be set
+    /// ([`initial_pixel_radii`]).
     radii_pending: bool,
 }
 
@@ -167,15 +167,15 @@ impl Integrator for SppmRenderer {
             Radius::World(r) => {
                 format!("{} at the start, then per pixel", summary::significant(r))
             }
-            Radius::Auto => "auto (per pixel)".to_string(),
+            Radius::Auto | Radius::Photons => format!("{} (per pixel)", settings.radius),
         };
         summary::photon_mapping(settings, &radius)
     }
 
     /// A render from `start`; every pixel starts at radius `settings.radius`
-    /// (`Radius::World`), or at a few pixel footprints at its first diffuse visible point
-    /// (`Radius::Auto`, set by the first iteration's pilot pass: [`pilot_radii`], shared with
-    /// `ppm`). The number of light paths per iteration is capped at [`MAX_LIGHT_PATHS`]. Each
+    /// (`Radius::World`), or at its own radius from a per-pixel rule (`Radius::Photons`,
+    /// `Radius::Auto`, set by the first iteration's pilot pass: [`initial_pixel_radii`],
+    /// shared with `ppm` and `vcm`). The number of light paths per iteration is capped at [`MAX_LIGHT_PATHS`]. Each
     /// pixel's camera paths and photons are those of the full render, so a crop changes no
     /// pixel. SPPM's iterations share per-pixel statistics: its direct-light film starts
     /// empty, and a saved state comes in by [`Integrator::from_snapshot`].
@@ -189,7 +189,7 @@ impl Integrator for SppmRenderer {
         let pixels = bounds.len();
         let (radius, radii_pending) = match settings.radius {
             Radius::World(r) => (r, false),
-            Radius::Auto => (0.0, true),
+            Radius::Auto | Radius::Photons => (0.0, true),
         };
         let (batch, batch_limit) = batch_photons(pixels, settings.photons);
         let photons = PhotonBuffer::of_records(batch);
@@ -270,14 +270,15 @@ impl Integrator for SppmRenderer {
         let mut passes = PassTimes::default();
         let mut clock = Stopwatch::start();
 
-        // 0. With `Radius::Auto`, each pixel's R_1 from its footprint. The pilot draws from
-        // its own random stream, so R_1 does not depend on any iteration's samples.
+        // 0. With a per-pixel rule, each pixel's R_1 from the pilot pass. The pilot draws
+        // from its own random streams, so R_1 does not depend on any iteration's samples.
         let mut pilot = RayCounters::default();
         if self.radii_pending {
-            let s = &self.settings;
-            let radii = pilot_radii(scene, s.seed, s.max_depth, s.rr_depth, &mut pilot);
-            for (local, statistics) in self.statistics.iter_mut().enumerate() {
-                *statistics = PixelStatistics::new(radii[self.bounds.full_index(local)]);
+            // Pending only under a per-pixel rule, which always gives radii.
+            if let Some(radii) = initial_pixel_radii(scene, &self.settings, &mut pilot) {
+                for (local, statistics) in self.statistics.iter_mut().enumerate() {
+                    *statistics = PixelStatistics::new(radii[self.bounds.full_index(local)]);
+                }
             }
             self.radii_pending = false;
         }

@@ -20,8 +20,9 @@
 //! Radius: r_i follows progressive photon mapping's schedule (Knaus and Zwicker 2011,
 //! r_{i+1}^2 = r_i^2 (i + alpha) / (i + 1), [`RadiusSchedule`]), which shrinks as
 //! i^((alpha - 1) / 2) like the VCM paper's r_i = r_1 i^((alpha - 1) / 2) (sec. 5) up to a
-//! constant factor. r_1 is `--radius` in scene units, or with `auto` the median of the
-//! pixels' footprint radii ([`pilot_radii`]): VCM merges at every non-delta camera vertex,
+//! constant factor. r_1 is `--radius` in scene units, or with a per-pixel rule (`photons`,
+//! the default, or `auto`) the median of the pixels' radii ([`initial_pixel_radii`]): VCM
+//! merges at every non-delta camera vertex,
 //! not only the first, so it needs one radius for the whole grid. `--photons` is not used:
 //! the light subpaths are one per pixel, as in the paper and SmallVCM.
 //!
@@ -40,12 +41,13 @@ pub use subsets::{Bpm, BpmRenderer, Bpt, BptRenderer, Lt, LtRenderer, TechniqueS
 pub use techniques::Techniques;
 
 use super::camera_walk::RayCounters;
-use super::footprint::{pilot_radii, quantile};
+use super::footprint::quantile;
+use super::radius_photons::initial_pixel_radii;
 use super::runner::{collect_until, reduce_until, Poll};
 use super::task_order::interleaved;
 use super::{
     image_bytes, summary, Features, Integrator, IterationStats, MemoryEstimate, MemoryPart,
-    PassTimes, Radius, RadiusSchedule, RenderSettings, RenderStart, Snapshot, Stop, Stopwatch,
+    PassTimes, RadiusSchedule, RenderSettings, RenderStart, Snapshot, Stop, Stopwatch,
     BYTES_PER_PHOTON, PHOTONS_PER_PATH,
 };
 use crate::film::{Film, SplatBuffer};
@@ -91,9 +93,10 @@ pub struct VcmRenderer {
     /// The pixels rendered (the whole image unless cropped); light subpaths are traced for
     /// the whole image either way, keyed by their index, so a crop changes no pixel.
     bounds: PixelBounds,
-    /// The radius (`Radius::World`), or the factor by which r_1 has shrunk (`Radius::Auto`).
+    /// The radius (`Radius::World`), or the factor by which r_1 has shrunk (per-pixel rules).
     schedule: RadiusSchedule,
-    /// `Radius::Auto`: r_1, from the pilot pass (made by the first iteration).
+    /// Per-pixel rules: r_1, the median of the pixels', from the pilot pass (made by the
+    /// first iteration).
     auto_radius: Option<f32>,
     /// The merge radius of the last iteration.
     last_radius: Option<f32>,
@@ -114,8 +117,8 @@ impl VcmRenderer {
     /// A render from `start` with the technique set `techniques` (the registered `vcm`
     /// renders [`Techniques::VCM`]; `bpt`, `bpm` and `lt` are its subsets). Like the path
     /// tracer, VCM carries nothing but the film between iterations: iteration i's subpaths
-    /// depend on (seed, i) and its radius on i alone (the `auto` pilot, keyed by the seed, is
-    /// traced again to the same r_1).
+    /// depend on (seed, i) and its radius on i alone (a per-pixel rule's pilot, keyed by the
+    /// seed, is traced again to the same r_1).
     pub fn start_with(start: RenderStart, techniques: Techniques) -> Self {
         let RenderStart {
             settings,
@@ -198,12 +201,13 @@ impl VcmRenderer {
         estimate
     }
 
-    /// The merge radius of the next iteration, and `auto`'s pilot pass if it is due.
+    /// The merge radius of the next iteration, and a per-pixel rule's pilot pass if it is due.
     fn radius(&mut self, scene: &Scene, counters: &mut RayCounters) -> f32 {
         let s = &self.settings;
-        if s.radius == Radius::Auto && self.auto_radius.is_none() {
-            let radii = pilot_radii(scene, s.seed, s.max_depth, s.rr_depth, counters);
-            self.auto_radius = Some(quantile(&radii, 0.5));
+        if s.radius.per_pixel() && self.auto_radius.is_none() {
+            if let Some(radii) = initial_pixel_radii(scene, s, counters) {
+                self.auto_radius = Some(quantile(&radii, 0.5));
+            }
         }
         self.schedule.radius() * self.auto_radius.unwrap_or(1.0)
     }
@@ -307,7 +311,10 @@ impl Integrator for VcmRenderer {
         format!(
             "seed {}, one light path per pixel per iteration, merge radius {} (alpha {})",
             settings.seed,
-            summary::scheduled_radius(settings, image, "auto (median footprint)"),
+            summary::scheduled_radius(settings, image, |rule| match rule {
+                "auto" => "auto (median footprint)".to_string(),
+                _ => format!("{rule} (median over pixels)"),
+            }),
             summary::significant(settings.alpha),
         )
     }
