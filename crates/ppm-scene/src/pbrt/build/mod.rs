@@ -35,10 +35,11 @@ pub fn build(desc: &Description, warnings: &mut Vec<String>) -> Result<SceneBuil
         .map(|(e, _)| e.loc.file.to_path_buf())
         .or_else(|| desc.shapes.first().map(|s| s.entity.loc.file.to_path_buf()))
         .unwrap_or(path);
-    let (camera, mirror) = camera::camera(desc, &file, warnings)?;
+    let (camera, mirror, crop) = camera::camera(desc, &file, warnings)?;
     let mut builder = SceneBuilder::new(camera);
     builder.defaults = RenderDefaults {
         max_depth: max_depth(desc, warnings)?,
+        crop,
         ..RenderDefaults::default()
     };
     settings_warnings(desc, warnings)?;
