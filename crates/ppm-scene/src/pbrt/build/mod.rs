@@ -63,16 +63,25 @@ pub fn build(desc: &Description, warnings: &mut Vec<String>) -> Result<SceneBuil
             Some(i) => i.definition,
             None => mirror * s.ctm,
         };
-        let geometry = shape::geometry(s, to_world, &desc.main_folder, &mut cache, warnings)?;
         let (index, (bsdf, textures)) =
             material_of(desc, s, &mut materials, &mut builder, warnings)?;
+        // A textured shape gets pbrt's uv where the file gives none (`shape.rs`).
+        let textured = !textures.is_empty();
+        let geometry = shape::geometry(
+            s,
+            to_world,
+            &desc.main_folder,
+            &mut cache,
+            textured,
+            warnings,
+        )?;
         let has_uv = match &geometry {
             Geometry::Mesh(m) => !m.uvs.is_empty(),
             Geometry::Sphere(_) => false,
         };
-        if !textures.is_empty() && !has_uv {
+        if textured && !has_uv {
             return Err(s.entity.loc.error(format!(
-                "Shape \"{}\": its material has a texture, and this shape has no uv: a trianglemesh or bilinearmesh with \"point2 uv\", or a plymesh whose file has uv, gives ppm pbrt's uv (pbrt's default uv of meshes and the uv of spheres, disks and cylinders are not supported yet)",
+                "Shape \"{}\": its material has a texture, and this shape has no uv: ppm gives pbrt's uv to a trianglemesh (given or pbrt's default per triangle), a bilinearmesh with \"point2 uv\", a plymesh whose file has uv, a disk and a cylinder (the default uv of a bilinearmesh or of a plymesh without uv, and the uv of an analytic sphere, are not supported yet)",
                 s.entity.kind
             )));
         }
