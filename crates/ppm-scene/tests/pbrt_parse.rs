@@ -311,6 +311,14 @@ fn errors_name_the_file_line_and_column() {
             "scene.pbrt:7:1: MakeNamedMedium: participating media are not supported yet",
         ),
         (
+            "AttributeBegin\n  MediumInterface \"fog\" \"\"",
+            "scene.pbrt:8:3: MediumInterface: participating media are not supported yet",
+        ),
+        (
+            "Attribute \"medium\" \"float sigma_s\" 0",
+            "scene.pbrt:7:11: Attribute \"medium\" is not supported yet",
+        ),
+        (
             "ActiveTransform StartTime",
             "scene.pbrt:7:17: ActiveTransform `StartTime`: motion blur is not supported yet",
         ),
