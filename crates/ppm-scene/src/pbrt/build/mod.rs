@@ -5,6 +5,7 @@
 mod camera;
 mod light;
 mod material;
+mod medium;
 mod shape;
 mod texture;
 
@@ -43,8 +44,19 @@ pub fn build(desc: &Description, warnings: &mut Vec<String>) -> Result<SceneBuil
         ..RenderDefaults::default()
     };
     settings_warnings(desc, warnings)?;
+    if let Some(names) = &desc.camera_media {
+        if !names.outside.is_empty() {
+            return Err(names.loc.error(format!(
+                "MediumInterface: the camera is in medium \"{}\" (the outside in force at Camera); ppm's camera sees through no medium: bound the medium with a surface instead",
+                names.outside
+            )));
+        }
+    }
 
     let mut materials: HashMap<MaterialKey, (u32, Textured)> = HashMap::new();
+    // Each material as bounding each distinct pair of media: (material, interior and
+    // exterior sigma_a bits) -> the copy's index.
+    let mut bounded: HashMap<(u32, [u32; 6]), u32> = HashMap::new();
     let mut cache = PlyCache::default();
     let mut triangles = 0usize;
     // The shared mesh of each (object, shape) an `ObjectInstance` placed, by its index.
@@ -102,6 +114,36 @@ pub fn build(desc: &Description, warnings: &mut Vec<String>) -> Result<SceneBuil
                             .error(format!("{} cannot be textured", slot.name()))
                     })?;
                 builder.add_material(m)
+            }
+        };
+        // The media on the shape's two sides: its material bounding them (a copy per pair).
+        let material = match &s.media {
+            None => material,
+            Some(names) => {
+                let interface = medium::interface(desc, names)?;
+                if interface.is_clear() {
+                    material
+                } else {
+                    let bits = [interface.interior, interface.exterior]
+                        .map(|v| v.to_array().map(f32::to_bits));
+                    let key = (
+                        material,
+                        [
+                            bits[0][0], bits[0][1], bits[0][2], bits[1][0], bits[1][1], bits[1][2],
+                        ],
+                    );
+                    match bounded.get(&key) {
+                        Some(&k) => k,
+                        None => {
+                            let m = builder.materials[material as usize]
+                                .clone()
+                                .with_medium(interface);
+                            let k = builder.add_material(m);
+                            bounded.insert(key, k);
+                            k
+                        }
+                    }
+                }
             }
         };
         match geometry {
