@@ -34,13 +34,20 @@ fn data() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/public")
 }
 
-/// Mitsuba's image mean and its standard error for `scene`, from references.csv.
+/// Mitsuba's image mean and its standard error for `scene`, from references.csv (the Mitsuba
+/// files') or pbrt_references.csv (the pbrt-v4 files', by `scripts/mitsuba/pbrt_public_refs.py`).
 fn reference_mean(scene: &str) -> (Vec3, Vec3) {
-    let csv = std::fs::read_to_string(data().join("references/references.csv")).unwrap();
-    let row = csv
-        .lines()
-        .skip(1)
-        .map(|l| l.split(',').collect::<Vec<_>>())
+    let mut rows = Vec::new();
+    for file in ["references.csv", "pbrt_references.csv"] {
+        let csv = std::fs::read_to_string(data().join("references").join(file)).unwrap();
+        rows.extend(
+            csv.lines()
+                .skip(1)
+                .map(|l| l.split(',').map(str::to_string).collect::<Vec<String>>()),
+        );
+    }
+    let row = rows
+        .iter()
         .find(|r| r[0] == scene)
         .unwrap_or_else(|| panic!("no reference for {scene}"));
     let v: Vec<f32> = row[3..9].iter().map(|x| x.parse().unwrap()).collect();
@@ -60,12 +67,19 @@ const SAMPLE_COUNT: &str = "sample_count";
 const CLIP: &str = "near_clip and far_clip are not used";
 const ENVMAP: &str = "emitter `envmap`: Mitsuba interpolates";
 
-/// One public scene: its file under `tests/data/public/`, the defines that make it small,
-/// and the warnings ppm must give (substrings, in order).
+/// The warnings the pbrt-v4 files give: their output file name, sample count and pixel filter.
+const PBRT_FILENAME: &str = "Film: filename";
+const PBRT_SAMPLES: &str = "Sampler: pixelsamples";
+const PBRT_TRIANGLE: &str = "PixelFilter \"triangle\" is not used";
+
+/// One public scene: its file under `tests/data/public/`, the defines that make it small (a
+/// Mitsuba file's) or the film size that replaces the file's (a pbrt file's, as `--width` and
+/// `--height` do), and the warnings ppm must give (substrings, in order).
 struct Public {
     name: &'static str,
     file: &'static str,
     defines: &'static [(&'static str, &'static str)],
+    resolution: Option<(u32, u32)>,
     warnings: &'static [&'static str],
 }
 
@@ -90,6 +104,10 @@ fn render(scene: &Public, seeds: u64, iterations: u32) -> Vec<Image> {
             "{}: {w} (expected {expected})",
             scene.name
         );
+    }
+    let mut builder = builder;
+    if let Some((width, height)) = scene.resolution {
+        builder.camera.set_resolution(width, height).unwrap();
     }
     let built = builder.build().unwrap();
     (0..seeds)
@@ -195,6 +213,7 @@ fn cbox_spectral_matches_mitsuba() {
         &Public {
             name: "cbox",
             file: "mitsuba-cbox/cbox.xml",
+            resolution: None,
             defines: &[("res", "64")],
             warnings: &[GAUSSIAN, SAMPLE_COUNT, CLIP],
         },
@@ -208,6 +227,7 @@ fn matpreview_matches_mitsuba() {
         &Public {
             name: "matpreview",
             file: "mitsuba-matpreview/matpreview.xml",
+            resolution: None,
             defines: &[("width", "64"), ("height", "48")],
             warnings: &[GAUSSIAN, SAMPLE_COUNT, ENVMAP],
         },
@@ -221,6 +241,7 @@ fn veach_mis_matches_mitsuba() {
         &Public {
             name: "veach-mis",
             file: "veach-mis/veach_mis.xml",
+            resolution: None,
             defines: &[("width", "72"), ("height", "48")],
             warnings: &[GAUSSIAN, SAMPLE_COUNT],
         },
@@ -234,6 +255,7 @@ fn copper_matpreview_through_path_matches_mitsuba() {
         &Public {
             name: "copper",
             file: "mitsuba-docs/docs/scenes/bsdf_roughconductor_copper.xml",
+            resolution: None,
             defines: &[("width", "64"), ("height", "48")],
             warnings: &[GAUSSIAN, SAMPLE_COUNT, ENVMAP],
         },
@@ -247,6 +269,7 @@ fn twosided_cbox_matches_mitsuba() {
         &Public {
             name: "twosided-cbox",
             file: "mitsuba-docs/docs/scenes/bsdf_twosided_cbox.xml",
+            resolution: None,
             defines: &[("width", "64"), ("height", "64")],
             warnings: &[GAUSSIAN, SAMPLE_COUNT, CLIP],
         },
@@ -259,9 +282,44 @@ fn cbox_rgb_from_includes_matches_mitsuba() {
         &Public {
             name: "cbox-rgb",
             file: "mitsuba-cbox/cbox-rgb.xml",
+            resolution: None,
             defines: &[("res", "64")],
             warnings: &[SAMPLE_COUNT, CLIP],
         },
         32,
+    );
+}
+
+/// Benedikt Bitterli's Cornell box as converted to pbrt-v4 (`bitterli-pbrt/SOURCE.md`): the
+/// file as published, at 32 x 32 (the file asks 1024 x 1024), against Mitsuba's render of
+/// `scripts/mitsuba/pbrt_public_refs.py`'s translation of it.
+#[test]
+fn bitterli_cornell_box_in_pbrt_v4_matches_mitsuba() {
+    check(
+        &Public {
+            name: "bitterli-cornell-box",
+            file: "bitterli-pbrt/cornell-box/scene-v4.pbrt",
+            defines: &[],
+            resolution: Some((32, 32)),
+            warnings: &[PBRT_FILENAME, PBRT_SAMPLES, PBRT_TRIANGLE],
+        },
+        64,
+    );
+}
+
+/// Bitterli's Veach MIS scene in pbrt-v4: rough conductors (roughness 0.01 to 0.25, not
+/// remapped, rgb eta and k), four spherical lights, maxdepth 3; at 48 x 27 (the file asks
+/// 1280 x 720).
+#[test]
+fn bitterli_veach_mis_in_pbrt_v4_matches_mitsuba() {
+    check(
+        &Public {
+            name: "bitterli-veach-mis",
+            file: "bitterli-pbrt/veach-mis/scene-v4.pbrt",
+            defines: &[],
+            resolution: Some((48, 27)),
+            warnings: &[PBRT_FILENAME, PBRT_SAMPLES, PBRT_TRIANGLE],
+        },
+        256,
     );
 }
