@@ -4,7 +4,11 @@
 //! size made a `$width`/`$height` parameter). Each scene is loaded through ppm's Mitsuba
 //! importer with the small size its defines give, path traced with 4 seeds, and compared with
 //! the render Mitsuba 3.9.1 (`scalar_rgb`) makes of the same file, committed in
-//! `tests/data/public/references/` by `scripts/mitsuba/public_refs.py`:
+//! `tests/data/public/references/` by `scripts/mitsuba/public_refs.py`. The pbrt-v4 files of
+//! `bitterli-pbrt/` are loaded through ppm's pbrt importer as published, with the film size
+//! replaced as `--width`/`--height` do; Mitsuba cannot read them, so their references are
+//! Mitsuba's renders of a translation of each file by `scripts/mitsuba/pbrt_public_refs.py`.
+//! Every scene is checked the same way:
 //!
 //! - the image mean, per channel, within 1 % of Mitsuba's, or within 4 combined standard
 //!   errors (sqrt(se_ppm^2 + se_mitsuba^2)) where that is larger: both renders are noisy, and
