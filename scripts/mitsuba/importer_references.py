@@ -47,6 +47,8 @@ SCENES = {
     "directional": ("directional.xml", {}),
     "floor_lamp": ("floor_lamp.xml", {}),
     "water_glass": ("water_glass.xml", {}),
+    # A crop window of the film: Mitsuba's image is the crop's size.
+    "cropped_plastic": ("cropped_plastic.xml", {}),
 }
 # The rough-lobe scenes (tests/rough_lobes.rs, docs/rough-lobes.md) at each roughness.
 ROUGHNESSES = ["0.001", "0.01", "0.05", "0.1", "0.23", "0.5"]

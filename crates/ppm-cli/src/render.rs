@@ -158,12 +158,17 @@ pub fn run(args: &RenderArgs, interrupt: &Interrupt) -> Result<Outcome> {
     setup::check_radius(&scene, &settings, &args.settings, &scene_path)?;
     memory::check(&scene, &settings)?;
     let camera = &scene.camera;
-    let bounds = crate::crop::pixel_bounds(
-        camera.width,
-        camera.height,
-        args.cropwindow.as_deref(),
-        args.pixelbounds.as_deref(),
-    )?;
+    // The command line's crop window replaces the scene's (`render.pixel_bounds`, a
+    // Mitsuba or pbrt film's crop).
+    let bounds = match (&args.cropwindow, &args.pixelbounds, scene.defaults.crop) {
+        (None, None, Some(crop)) => crop,
+        _ => crate::crop::pixel_bounds(
+            camera.width,
+            camera.height,
+            args.cropwindow.as_deref(),
+            args.pixelbounds.as_deref(),
+        )?,
+    };
     let cropped = bounds != ppm_core::pixel_bounds::PixelBounds::full(camera.width, camera.height);
     if args.verbose {
         status!(
@@ -183,8 +188,10 @@ pub fn run(args: &RenderArgs, interrupt: &Interrupt) -> Result<Outcome> {
     });
     if cropped && (args.shard.is_some() || args.resume.is_some()) {
         usage_bail!(
-            "--cropwindow and --pixelbounds render a part of the image, which --shard and \
-             --resume do not take: render whole images to shard or resume them"
+            "--cropwindow, --pixelbounds and a scene's crop window (render.pixel_bounds, a \
+             Mitsuba or pbrt film's crop) render a part of the image, which --shard and \
+             --resume do not take: render whole images to shard or resume them \
+             (--cropwindow 0 1 0 1 renders the whole image of a cropped scene)"
         );
     }
     let size = (scene.camera.width, scene.camera.height);

@@ -107,15 +107,20 @@ pub fn apply_resolution(
     reference: Option<(u32, u32)>,
 ) -> Result<()> {
     let camera = &mut scene.camera;
-    let (w, h) = resolve_resolution(
-        (camera.width, camera.height),
-        settings.width,
-        settings.height,
-        reference,
-    )?;
+    let from = (camera.width, camera.height);
+    let (w, h) = resolve_resolution(from, settings.width, settings.height, reference)?;
     camera
         .set_resolution(w, h)
         .context("invalid --width/--height")?;
+    // The scene's crop window keeps its place in the resized image.
+    if let Some(crop) = scene.defaults.crop {
+        scene.defaults.crop = Some(crop.resized(from, (w, h)).with_context(|| {
+            format!(
+                "the scene's crop window (pixels {} {} {} {} of {}x{}) covers no pixel of the {w}x{h} image",
+                crop.x0, crop.x1, crop.y0, crop.y1, from.0, from.1
+            )
+        })?);
+    }
     Ok(())
 }
 

@@ -260,6 +260,58 @@ fn a_crop_has_the_full_renders_pixels() {
     );
 }
 
+/// A scene's own crop window (`render.pixel_bounds`, as a Mitsuba or pbrt film's crop
+/// loads): rendered as `--pixelbounds` would be, replaced by the command line's window, and
+/// moved with the resolution.
+#[test]
+fn a_scenes_crop_window_is_rendered_unless_the_command_line_gives_one() {
+    let dir = tempfile::tempdir().unwrap();
+    tiny_scene(dir.path());
+    let cropped = TINY_SCENE.replace("render:\n", "render:\n  pixel_bounds: [4, 13, 2, 9]\n");
+    assert_ne!(cropped, TINY_SCENE);
+    std::fs::write(dir.path().join("cropped.yml"), cropped).unwrap();
+    let common = ["-n", "2", "--seed", "3", "-a", "pt"];
+    ok(
+        dir.path(),
+        &[&["tiny.yml"], &common[..], &["-o", "full.exr"]].concat(),
+    );
+    ok(
+        dir.path(),
+        &[&["cropped.yml"], &common[..], &["-o", "crop.exr"]].concat(),
+    );
+    let (fw, _, full) = read_exr(&dir.path().join("full.exr"));
+    let (w, h, crop) = read_exr(&dir.path().join("crop.exr"));
+    assert_eq!((w, h), (9, 7));
+    for y in 0..h {
+        for x in 0..w {
+            assert_eq!(crop[y * w + x], full[(y + 2) * fw + x + 4], "({x}, {y})");
+        }
+    }
+    // The command line's window replaces the scene's.
+    ok(
+        dir.path(),
+        &[
+            &["cropped.yml"],
+            &common[..],
+            &["-o", "whole.exr", "--cropwindow", "0", "1", "0", "1"],
+        ]
+        .concat(),
+    );
+    assert_eq!(read_exr(&dir.path().join("whole.exr")).2, full);
+    // Twice the resolution: every edge doubles.
+    ok(
+        dir.path(),
+        &[
+            &["cropped.yml"],
+            &common[..],
+            &["-o", "big.exr", "--width", "32", "--height", "24"],
+        ]
+        .concat(),
+    );
+    let (w, h, _) = read_exr(&dir.path().join("big.exr"));
+    assert_eq!((w, h), (18, 14));
+}
+
 #[test]
 fn a_black_image_is_explained() {
     let dir = tempfile::tempdir().unwrap();

@@ -26,6 +26,25 @@ impl PixelBounds {
         }
     }
 
+    /// The same window of the image resized from `from` to `to` (width, height) pixels: each
+    /// edge e at ceil(e * to / from), the rounding of a crop window given in fractions of the
+    /// image (pbrt-v4's `cropwindow`), in integers so that `from == to` keeps every edge.
+    /// `None` if the resized window holds no pixel.
+    pub fn resized(&self, from: (u32, u32), to: (u32, u32)) -> Option<PixelBounds> {
+        let edge = |e: u32, from: u32, to: u32| -> u32 {
+            let (e, from, to) = (e as u64, from.max(1) as u64, to as u64);
+            ((e * to).div_ceil(from)).min(to) as u32
+        };
+        let b = PixelBounds {
+            x0: edge(self.x0, from.0, to.0),
+            x1: edge(self.x1, from.0, to.0),
+            y0: edge(self.y0, from.1, to.1),
+            y1: edge(self.y1, from.1, to.1),
+            full_width: to.0,
+        };
+        (b.x0 < b.x1 && b.y0 < b.y1).then_some(b)
+    }
+
     /// Columns in the window.
     pub fn width(&self) -> u32 {
         self.x1 - self.x0
@@ -89,5 +108,38 @@ mod tests {
             full_width: 7,
         };
         assert!((0..band.len()).all(|i| band.full_index(i) == 14 + i));
+    }
+
+    #[test]
+    fn resizing_keeps_the_window_in_place() {
+        let crop = PixelBounds {
+            x0: 9,
+            x1: 25,
+            y0: 5,
+            y1: 27,
+            full_width: 32,
+        };
+        assert_eq!(crop.resized((32, 32), (32, 32)), Some(crop));
+        // Twice the size: every edge doubles.
+        let doubled = PixelBounds {
+            x0: 18,
+            x1: 50,
+            y0: 10,
+            y1: 54,
+            full_width: 64,
+        };
+        assert_eq!(crop.resized((32, 32), (64, 64)), Some(doubled));
+        // Half the width: ceil(9 / 2) = 5, ceil(25 / 2) = 13.
+        let halved = crop.resized((32, 32), (16, 32)).unwrap();
+        assert_eq!((halved.x0, halved.x1, halved.full_width), (5, 13, 16));
+        // A one-pixel window shrunk to nothing.
+        let thin = PixelBounds {
+            x0: 3,
+            x1: 4,
+            y0: 0,
+            y1: 1,
+            full_width: 32,
+        };
+        assert_eq!(thin.resized((32, 32), (8, 8)), None);
     }
 }

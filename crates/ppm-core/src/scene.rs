@@ -24,9 +24,13 @@ pub struct RenderDefaults {
     pub alpha: f32,
     /// The integrator the file asks for (`render.algorithm`); `None`: the front end's default.
     pub algorithm: Option<crate::integrator::Algorithm>,
+    /// The pixels the file asks to render (`render.pixel_bounds`, a Mitsuba film's crop
+    /// window, pbrt-v4's `cropwindow`), a window of the camera's image; `None`: all of them.
+    /// The image written is the window's size, each pixel the full render's.
+    pub crop: Option<crate::pixel_bounds::PixelBounds>,
 }
 
-/// As derived, except that `algorithm` is left out when `None`: the scene fingerprint that
+/// As derived, except that `algorithm` and `crop` are left out when `None`: the scene fingerprint that
 /// saved renders record (`ppm_scene::content_hash`) hashes this text, and a scene that names
 /// no algorithm must keep the fingerprint it had before the field existed, so that its saved
 /// renders still resume and merge.
@@ -40,6 +44,9 @@ impl std::fmt::Debug for RenderDefaults {
         if let Some(algorithm) = &self.algorithm {
             s.field("algorithm", algorithm);
         }
+        if let Some(crop) = &self.crop {
+            s.field("crop", crop);
+        }
         s.finish()
     }
 }
@@ -52,6 +59,7 @@ impl Default for RenderDefaults {
             radius: None,
             alpha: 2.0 / 3.0,
             algorithm: None,
+            crop: None,
         }
     }
 }

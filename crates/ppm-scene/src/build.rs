@@ -226,6 +226,12 @@ pub fn build(
         if let Some(a) = r.algorithm {
             defaults.algorithm = Some(a.0);
         }
+        if let Some(w) = r.pixel_bounds {
+            defaults.crop = Some(
+                crate::crop::window(w.0, resolution)
+                    .map_err(|m| LoadError::invalid(path, "render.pixel_bounds", m))?,
+            );
+        }
     }
     builder.defaults = defaults;
 

@@ -524,8 +524,8 @@ impl Fingerprint {
             .end();
     }
 
-    /// The render defaults; `algorithm` only when the file names one, so that scenes
-    /// without it keep the fingerprint they had before the field existed.
+    /// The render defaults; `algorithm` and `crop` only when the file names them, so that
+    /// scenes without them keep the fingerprint they had before the fields existed.
     fn defaults(&mut self, d: &RenderDefaults) {
         let RenderDefaults {
             max_depth,
@@ -533,6 +533,7 @@ impl Fingerprint {
             radius,
             alpha,
             algorithm,
+            crop,
         } = *d;
         let record = self
             .record("RenderDefaults")
@@ -548,7 +549,7 @@ impl Fingerprint {
                 Some(Radius::Auto) | None => f.text("None"),
             })
             .field("alpha", |f| f.f32(alpha));
-        match algorithm {
+        let record = match algorithm {
             Some(a) => record.field("algorithm", |f| {
                 f.text(match a {
                     Algorithm::Path => "Path",
@@ -561,8 +562,18 @@ impl Fingerprint {
                 })
             }),
             None => record,
-        }
-        .end();
+        };
+        // Also only when the file has one.
+        let record = match crop {
+            Some(c) => record.field("crop", |f| {
+                f.text(&format!(
+                    "[{}, {}, {}, {}] of width {}",
+                    c.x0, c.x1, c.y0, c.y1, c.full_width
+                ))
+            }),
+            None => record,
+        };
+        record.end();
     }
 }
 

@@ -103,6 +103,11 @@ pub struct Depth(pub u32);
 /// An image size `[width, height]`, each side in 1..=MAX_RESOLUTION.
 pub struct Resolution(pub u32, pub u32);
 
+/// `render.pixel_bounds`: `[x0, x1, y0, y1]`, whole numbers of pixels, the half-open window
+/// x0..x1 by y0..y1 from the image's top-left corner (checked against the resolution by the
+/// scene's build).
+pub struct PixelWindow(pub [u32; 4]);
+
 impl<R> fmt::Debug for Num<R> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         self.0.fmt(f)
@@ -349,6 +354,41 @@ impl<'de> Deserialize<'de> for Side {
             max: i64::MAX,
         })
         .map(Side)
+    }
+}
+
+impl<'de> Deserialize<'de> for PixelWindow {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct V;
+        impl<'de> Visitor<'de> for V {
+            type Value = PixelWindow;
+            fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+                write!(
+                    f,
+                    "[x0, x1, y0, y1] in pixels, each in 0..={MAX_RESOLUTION}"
+                )
+            }
+            fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<PixelWindow, A::Error> {
+                let mut edge = [0u32; 4];
+                for (i, e) in edge.iter_mut().enumerate() {
+                    let Side(x) = seq
+                        .next_element()?
+                        .ok_or_else(|| de::Error::invalid_length(i, &self))?;
+                    if !(0..=i64::from(MAX_RESOLUTION)).contains(&x) {
+                        let name = ["x0", "x1", "y0", "y1"][i];
+                        return Err(de::Error::custom(format!(
+                            "{name} {x} is out of range, expected 0..={MAX_RESOLUTION} pixels"
+                        )));
+                    }
+                    *e = x as u32;
+                }
+                if seq.next_element::<IgnoredAny>()?.is_some() {
+                    return Err(de::Error::invalid_length(5, &self));
+                }
+                Ok(PixelWindow(edge))
+            }
+        }
+        d.deserialize_seq(V)
     }
 }
 

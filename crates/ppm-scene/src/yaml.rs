@@ -7,8 +7,8 @@
 use crate::ior::Ior;
 use crate::texture_desc::{Colour, RoughnessValue};
 use crate::values::{
-    Alpha, Count, Depth, FieldOfView, Finite, GatherRadius, NonNegative, Num, Point, Positive,
-    Resolution, Triple,
+    Alpha, Count, Depth, FieldOfView, Finite, GatherRadius, NonNegative, Num, PixelWindow, Point,
+    Positive, Resolution, Triple,
 };
 use ppm_core::integrator::Algorithm;
 use serde::de::{self, DeserializeSeed, Deserializer, MapAccess, Visitor};
@@ -219,6 +219,8 @@ pub struct RenderDesc {
     pub radius: Option<GatherRadius>,
     pub alpha: Option<Num<Alpha>>,
     pub algorithm: Option<AlgorithmName>,
+    /// The window of pixels to render, `[x0, x1, y0, y1]` (default: the whole image).
+    pub pixel_bounds: Option<PixelWindow>,
 }
 
 /// `render.algorithm`: the integrator, named as on the command line (`-a`): a name or an

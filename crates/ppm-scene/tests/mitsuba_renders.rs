@@ -10,6 +10,7 @@
 
 use glam::Vec3;
 use ppm_core::integrator::{Algorithm, RenderSettings, Renderer};
+use ppm_core::pixel_bounds::PixelBounds;
 use ppm_core::scene::SceneBuilder;
 use ppm_scene::load_scene_builder;
 use std::path::{Path, PathBuf};
@@ -73,7 +74,12 @@ fn render_with(
                 photons: photons.unwrap_or(defaults.photons),
                 ..defaults
             };
-            let mut r = Renderer::new(&scene, &settings);
+            // The film's crop window when it has one (Mitsuba's image is then the crop).
+            let bounds = scene
+                .defaults
+                .crop
+                .unwrap_or(PixelBounds::full(scene.camera.width, scene.camera.height));
+            let mut r = Renderer::with_bounds(&settings, bounds);
             for _ in 0..iterations {
                 assert_eq!(r.iterate(&scene).rejected, 0);
             }
@@ -173,6 +179,43 @@ fn directional_matches_mitsuba_and_bpt_vcm_sppm_agree() {
 #[test]
 fn rough_gold_beckmann_matches_mitsuba() {
     check_against_mitsuba("rough_gold_beckmann", &[], 64);
+}
+
+/// A film with a crop window (`crop_offset_x`/`_y`, `crop_width`/`crop_height`): the importer
+/// keeps the window, the render of it is the crop's size with the full render's pixels
+/// there, bit for bit, and its mean is that of Mitsuba's render of the same file (whose
+/// image is the crop).
+#[test]
+fn film_crop_is_the_full_images_window_and_matches_mitsuba() {
+    let builder = load("cropped_plastic", &[]);
+    let crop = builder.defaults.crop.expect("the film's crop window");
+    assert_eq!(
+        (crop.x0, crop.x1, crop.y0, crop.y1, crop.full_width),
+        (9, 25, 5, 27, 32)
+    );
+    let scene = builder.build().unwrap();
+    let settings = RenderSettings {
+        seed: 7,
+        ..RenderSettings::for_algorithm(&scene, Algorithm::Path)
+    };
+    let mut full = Renderer::new(&scene, &settings);
+    let mut cropped = Renderer::with_bounds(&settings, crop);
+    for _ in 0..2 {
+        full.iterate(&scene);
+        cropped.iterate(&scene);
+    }
+    let (f, c) = (full.image(), cropped.image());
+    assert_eq!((c.width, c.height), (16, 22));
+    for y in 0..22 {
+        for x in 0..16 {
+            assert_eq!(
+                c.pixels[y * 16 + x].to_array(),
+                f.pixels[(y + 5) * 32 + x + 9].to_array(),
+                "pixel ({x}, {y}) of the crop"
+            );
+        }
+    }
+    check_against_mitsuba("cropped_plastic", &[], 64);
 }
 
 #[test]

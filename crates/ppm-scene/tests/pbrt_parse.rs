@@ -307,8 +307,12 @@ fn errors_name_the_file_line_and_column() {
             "scene.pbrt:7:12: ColorSpace \"aces2065-1\" is not supported yet",
         ),
         (
-            "MakeNamedMedium \"fog\"",
-            "scene.pbrt:7:1: MakeNamedMedium: participating media are not supported yet",
+            "MakeNamedMedium \"fog\" \"string type\" \"homogeneous\"\nMakeNamedMedium \"fog\"",
+            "scene.pbrt:8:1: medium \"fog\" defined twice",
+        ),
+        (
+            "Attribute \"medium\" \"float sigma_s\" 0",
+            "scene.pbrt:7:11: Attribute \"medium\" is not supported yet",
         ),
         (
             "ActiveTransform StartTime",

@@ -4,7 +4,11 @@
 //! size made a `$width`/`$height` parameter). Each scene is loaded through ppm's Mitsuba
 //! importer with the small size its defines give, path traced with 4 seeds, and compared with
 //! the render Mitsuba 3.9.1 (`scalar_rgb`) makes of the same file, committed in
-//! `tests/data/public/references/` by `scripts/mitsuba/public_refs.py`:
+//! `tests/data/public/references/` by `scripts/mitsuba/public_refs.py`. The pbrt-v4 files of
+//! `bitterli-pbrt/` are loaded through ppm's pbrt importer as published, with the film size
+//! replaced as `--width`/`--height` do; Mitsuba cannot read them, so their references are
+//! Mitsuba's renders of a translation of each file by `scripts/mitsuba/pbrt_public_refs.py`.
+//! Every scene is checked the same way:
 //!
 //! - the image mean, per channel, within 1 % of Mitsuba's, or within 4 combined standard
 //!   errors (sqrt(se_ppm^2 + se_mitsuba^2)) where that is larger: both renders are noisy, and
@@ -34,13 +38,20 @@ fn data() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/public")
 }
 
-/// Mitsuba's image mean and its standard error for `scene`, from references.csv.
+/// Mitsuba's image mean and its standard error for `scene`, from references.csv (the Mitsuba
+/// files') or pbrt_references.csv (the pbrt-v4 files', by `scripts/mitsuba/pbrt_public_refs.py`).
 fn reference_mean(scene: &str) -> (Vec3, Vec3) {
-    let csv = std::fs::read_to_string(data().join("references/references.csv")).unwrap();
-    let row = csv
-        .lines()
-        .skip(1)
-        .map(|l| l.split(',').collect::<Vec<_>>())
+    let mut rows = Vec::new();
+    for file in ["references.csv", "pbrt_references.csv"] {
+        let csv = std::fs::read_to_string(data().join("references").join(file)).unwrap();
+        rows.extend(
+            csv.lines()
+                .skip(1)
+                .map(|l| l.split(',').map(str::to_string).collect::<Vec<String>>()),
+        );
+    }
+    let row = rows
+        .iter()
         .find(|r| r[0] == scene)
         .unwrap_or_else(|| panic!("no reference for {scene}"));
     let v: Vec<f32> = row[3..9].iter().map(|x| x.parse().unwrap()).collect();
@@ -60,12 +71,19 @@ const SAMPLE_COUNT: &str = "sample_count";
 const CLIP: &str = "near_clip and far_clip are not used";
 const ENVMAP: &str = "emitter `envmap`: Mitsuba interpolates";
 
-/// One public scene: its file under `tests/data/public/`, the defines that make it small,
-/// and the warnings ppm must give (substrings, in order).
+/// The warnings the pbrt-v4 files give: their output file name, sample count and pixel filter.
+const PBRT_FILENAME: &str = "Film: filename";
+const PBRT_SAMPLES: &str = "Sampler: pixelsamples";
+const PBRT_TRIANGLE: &str = "PixelFilter \"triangle\" is not used";
+
+/// One public scene: its file under `tests/data/public/`, the defines that make it small (a
+/// Mitsuba file's) or the film size that replaces the file's (a pbrt file's, as `--width` and
+/// `--height` do), and the warnings ppm must give (substrings, in order).
 struct Public {
     name: &'static str,
     file: &'static str,
     defines: &'static [(&'static str, &'static str)],
+    resolution: Option<(u32, u32)>,
     warnings: &'static [&'static str],
 }
 
@@ -90,6 +108,10 @@ fn render(scene: &Public, seeds: u64, iterations: u32) -> Vec<Image> {
             "{}: {w} (expected {expected})",
             scene.name
         );
+    }
+    let mut builder = builder;
+    if let Some((width, height)) = scene.resolution {
+        builder.camera.set_resolution(width, height).unwrap();
     }
     let built = builder.build().unwrap();
     (0..seeds)
@@ -195,6 +217,7 @@ fn cbox_spectral_matches_mitsuba() {
         &Public {
             name: "cbox",
             file: "mitsuba-cbox/cbox.xml",
+            resolution: None,
             defines: &[("res", "64")],
             warnings: &[GAUSSIAN, SAMPLE_COUNT, CLIP],
         },
@@ -208,6 +231,7 @@ fn matpreview_matches_mitsuba() {
         &Public {
             name: "matpreview",
             file: "mitsuba-matpreview/matpreview.xml",
+            resolution: None,
             defines: &[("width", "64"), ("height", "48")],
             warnings: &[GAUSSIAN, SAMPLE_COUNT, ENVMAP],
         },
@@ -221,6 +245,7 @@ fn veach_mis_matches_mitsuba() {
         &Public {
             name: "veach-mis",
             file: "veach-mis/veach_mis.xml",
+            resolution: None,
             defines: &[("width", "72"), ("height", "48")],
             warnings: &[GAUSSIAN, SAMPLE_COUNT],
         },
@@ -234,6 +259,7 @@ fn copper_matpreview_through_path_matches_mitsuba() {
         &Public {
             name: "copper",
             file: "mitsuba-docs/docs/scenes/bsdf_roughconductor_copper.xml",
+            resolution: None,
             defines: &[("width", "64"), ("height", "48")],
             warnings: &[GAUSSIAN, SAMPLE_COUNT, ENVMAP],
         },
@@ -247,6 +273,7 @@ fn twosided_cbox_matches_mitsuba() {
         &Public {
             name: "twosided-cbox",
             file: "mitsuba-docs/docs/scenes/bsdf_twosided_cbox.xml",
+            resolution: None,
             defines: &[("width", "64"), ("height", "64")],
             warnings: &[GAUSSIAN, SAMPLE_COUNT, CLIP],
         },
@@ -259,9 +286,45 @@ fn cbox_rgb_from_includes_matches_mitsuba() {
         &Public {
             name: "cbox-rgb",
             file: "mitsuba-cbox/cbox-rgb.xml",
+            resolution: None,
             defines: &[("res", "64")],
             warnings: &[SAMPLE_COUNT, CLIP],
         },
         32,
+    );
+}
+
+/// Benedikt Bitterli's Cornell box as converted to pbrt-v4 (`bitterli-pbrt/SOURCE.md`): the
+/// file as published, at 32 x 32 (the file asks 1024 x 1024), against Mitsuba's render of
+/// `scripts/mitsuba/pbrt_public_refs.py`'s translation of it.
+#[test]
+fn bitterli_cornell_box_in_pbrt_v4_matches_mitsuba() {
+    check(
+        &Public {
+            name: "bitterli-cornell-box",
+            file: "bitterli-pbrt/cornell-box/scene-v4.pbrt",
+            defines: &[],
+            resolution: Some((32, 32)),
+            warnings: &[PBRT_FILENAME, PBRT_SAMPLES, PBRT_TRIANGLE],
+        },
+        64,
+    );
+}
+
+/// Bitterli's Veach MIS scene in pbrt-v4: rough conductors (roughness 0.01 to 0.25, not
+/// remapped, rgb eta and k), three spherical lights (radii 1, 0.5 and 0.05), maxdepth 3; at
+/// 48 x 27 (the file asks 1280 x 720). Its smallest light makes it the noisiest scene here:
+/// 1024 samples per pixel bring the mean's standard error to about 1.3 %.
+#[test]
+fn bitterli_veach_mis_in_pbrt_v4_matches_mitsuba() {
+    check(
+        &Public {
+            name: "bitterli-veach-mis",
+            file: "bitterli-pbrt/veach-mis/scene-v4.pbrt",
+            defines: &[],
+            resolution: Some((48, 27)),
+            warnings: &[PBRT_FILENAME, PBRT_SAMPLES, PBRT_TRIANGLE],
+        },
+        1024,
     );
 }

@@ -177,6 +177,13 @@ fn write_body(b: &SceneBuilder, ctx: &mut Context) -> Result<String, LoadError> 
     if let Some(a) = d.algorithm {
         y.field(1, "algorithm", a.name());
     }
+    if let Some(c) = d.crop {
+        y.field(
+            1,
+            "pixel_bounds",
+            &format!("[{}, {}, {}, {}]", c.x0, c.x1, c.y0, c.y1),
+        );
+    }
 
     // Names must be unique keys; a repeated one gets a suffix (and a note: names count in
     // the fingerprint).

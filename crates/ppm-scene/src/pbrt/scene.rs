@@ -42,6 +42,17 @@ pub struct ShapeEntity {
     /// For a copy made by `ObjectInstance`: which shape of which object it is, and the
     /// transforms it composes (`ctm` = instance * definition).
     pub instance: Option<InstanceOf>,
+    /// The `MediumInterface` in force, when it names a medium.
+    pub media: Option<Rc<MediaNames>>,
+}
+
+/// A `MediumInterface "inside" "outside"`: the media on the side opposite the surface's
+/// normal and on its side ("" for none), and where the directive is.
+#[derive(Clone, Debug)]
+pub struct MediaNames {
+    pub inside: String,
+    pub outside: String,
+    pub loc: Loc,
 }
 
 /// A shape as an `ObjectInstance` placed it.
@@ -103,6 +114,10 @@ pub struct Description {
     pub materials: Vec<MaterialEntity>,
     pub named_materials: HashMap<String, MaterialEntity>,
     pub textures: HashMap<String, TextureEntity>,
+    /// `MakeNamedMedium` by name (its kind is its `"string type"` parameter).
+    pub media: HashMap<String, Entity>,
+    /// The `MediumInterface` in force at `Camera`: its outside is the camera's medium.
+    pub camera_media: Option<Rc<MediaNames>>,
     /// The folder of the scene file named on the command line (pbrt-v4 resolves relative
     /// file names against it).
     pub main_folder: std::path::PathBuf,

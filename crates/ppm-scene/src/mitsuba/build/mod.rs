@@ -44,9 +44,12 @@ pub fn build(tree: &SceneTree, warnings: &mut Vec<String>) -> Result<SceneBuilde
             sensors.len()
         ));
     }
-    let camera = sensor::camera(tree, sensor, warnings)?;
+    let (camera, crop) = sensor::camera(tree, sensor, warnings)?;
     let mut builder = SceneBuilder::new(camera);
-    let mut defaults = RenderDefaults::default();
+    let mut defaults = RenderDefaults {
+        crop,
+        ..RenderDefaults::default()
+    };
     if let Some(&integrator) = root.objects("integrator").first() {
         defaults.max_depth = sensor::max_depth(tree, integrator, warnings)?;
     }

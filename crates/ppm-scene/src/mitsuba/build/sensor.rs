@@ -9,6 +9,7 @@ use crate::LoadError;
 use glam::DVec3;
 use ppm_core::camera::Camera;
 use ppm_core::integrator::MAX_DEPTH;
+use ppm_core::pixel_bounds::PixelBounds;
 
 /// Mitsuba's default film size.
 const DEFAULT_FILM: (i64, i64) = (768, 576);
@@ -18,11 +19,12 @@ const DEFAULT_FILM: (i64, i64) = (768, 576);
 /// +y axes, and the vertical field of view its `fov` and `fov_axis` (or `focal_length`) give
 /// for the film's aspect ratio. A `thinlens` adds its `aperture_radius` (required, as in
 /// Mitsuba) and `focus_distance` (Mitsuba's default: `far_clip`, itself 10^4 by default).
+/// With it, the film's crop window ([`film_crop`]).
 pub fn camera(
     tree: &SceneTree,
     index: usize,
     warnings: &mut Vec<String>,
-) -> Result<Camera, LoadError> {
+) -> Result<(Camera, Option<PixelBounds>), LoadError> {
     let p = Props::new(tree, index);
     let thin_lens = match p.object.plugin.as_str() {
         "perspective" => false,
@@ -30,9 +32,9 @@ pub fn camera(
         _ => return Err(unsupported(&tree.objects[index])),
     };
     let films = p.objects("film");
-    let (width, height) = match films.first() {
+    let ((width, height), crop) = match films.first() {
         Some(&film) => film_size(tree, film, warnings)?,
-        None => (DEFAULT_FILM.0 as u32, DEFAULT_FILM.1 as u32),
+        None => ((DEFAULT_FILM.0 as u32, DEFAULT_FILM.1 as u32), None),
     };
     for sampler in p.objects("sampler") {
         let s = Props::new(tree, sampler);
@@ -93,7 +95,9 @@ pub fn camera(
         (Ok(c), Some((radius, focus))) => c.with_lens(radius as f32, focus as f32),
         (camera, _) => camera,
     };
-    camera.map_err(|e| tree.objects[index].location.error(format!("sensor: {e}")))
+    camera
+        .map(|c| (c, crop))
+        .map_err(|e| tree.objects[index].location.error(format!("sensor: {e}")))
 }
 
 /// The vertical field of view, degrees, from `fov` + `fov_axis` (x, y, diagonal, smaller,
@@ -141,13 +145,13 @@ fn sensor_vertical_fov(p: &Props, aspect: f64) -> Result<f64, LoadError> {
     Ok(vertical_fov(fov, axis, aspect))
 }
 
-/// The image size of an `hdrfilm`; a crop window is a warning (ppm crops on its command
-/// line), and a reconstruction filter other than `box` too (ppm averages over each pixel).
+/// The image size of an `hdrfilm` and its crop window; a reconstruction filter other than
+/// `box` is a warning (ppm averages over each pixel).
 fn film_size(
     tree: &SceneTree,
     index: usize,
     warnings: &mut Vec<String>,
-) -> Result<(u32, u32), LoadError> {
+) -> Result<((u32, u32), Option<PixelBounds>), LoadError> {
     let p = Props::new(tree, index);
     if p.object.plugin != "hdrfilm" {
         return Err(unsupported(&tree.objects[index]));
@@ -166,23 +170,7 @@ fn film_size(
             })
     };
     let size = (side(width, "width")?, side(height, "height")?);
-    let crop = [
-        "crop_offset_x",
-        "crop_offset_y",
-        "crop_width",
-        "crop_height",
-    ]
-    .map(|n| p.integer_opt(n));
-    let mut cropped = false;
-    for c in crop {
-        cropped |= c?.is_some();
-    }
-    if cropped {
-        warnings.push(format!(
-            "{}: film: the crop window is not used: render the whole image, or crop with ppm's command line",
-            p.location()
-        ));
-    }
+    let crop = film_crop(&p, size)?;
     for filter in p.objects("rfilter") {
         let f = Props::new(tree, filter);
         if f.object.plugin != "box" {
@@ -206,7 +194,46 @@ fn film_size(
         "compensate",
     ]);
     p.finish()?;
-    Ok(size)
+    Ok((size, crop))
+}
+
+/// The film's crop window, as Mitsuba 3's `Film` reads it: `crop_offset_x`/`_y` (default 0)
+/// and `crop_width`/`crop_height` (default the film's width and height, whatever the
+/// offset), which must fit in the film (Mitsuba throws otherwise). Mitsuba's image is then
+/// the crop's size, its pixels the full image's in the window; `None` without a crop.
+fn film_crop(p: &Props, (width, height): (u32, u32)) -> Result<Option<PixelBounds>, LoadError> {
+    let names = [
+        "crop_offset_x",
+        "crop_offset_y",
+        "crop_width",
+        "crop_height",
+    ];
+    let mut values = [None; 4];
+    for (v, name) in values.iter_mut().zip(names) {
+        *v = p.integer_opt(name)?;
+        if let Some(x) = *v {
+            if !(0..=i64::from(ppm_core::camera::MAX_RESOLUTION)).contains(&x) {
+                return Err(p.error(format!("film: {name} {x} is not a number of pixels")));
+            }
+        }
+    }
+    if values.iter().all(Option::is_none) {
+        return Ok(None);
+    }
+    let [x, y, w, h] = values;
+    let (x, y) = (x.unwrap_or(0), y.unwrap_or(0));
+    let (w, h) = (w.unwrap_or(width.into()), h.unwrap_or(height.into()));
+    if w == 0 || h == 0 || x + w > i64::from(width) || y + h > i64::from(height) {
+        return Err(p.error(format!(
+            "film: the crop window (offset {x}, {y}, size {w} x {h}) is not inside the {width} x {height} film (Mitsuba: crop_offset + crop_size must not exceed the size, and crop_width/crop_height default to the film's width/height)"
+        )));
+    }
+    crate::crop::window(
+        [x as u32, (x + w) as u32, y as u32, (y + h) as u32],
+        (width, height),
+    )
+    .map(Some)
+    .map_err(|m| p.error(format!("film: crop window {m}")))
 }
 
 /// ppm's `max_depth` from the scene's integrator: Mitsuba counts the segments of a path

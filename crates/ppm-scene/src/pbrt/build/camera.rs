@@ -22,20 +22,21 @@ use super::super::Loc;
 use crate::LoadError;
 use glam::{DMat3, DMat4, DVec3};
 use ppm_core::camera::{Camera, MAX_RESOLUTION};
+use ppm_core::pixel_bounds::PixelBounds;
 use std::path::Path;
 use std::sync::Arc;
 
 /// pbrt-v4's default film size.
 const DEFAULT_FILM: (i64, i64) = (1280, 720);
 
-/// ppm's camera for the scene and the world mirror (identity or a reflection) to apply to
-/// every world-space transform.
+/// ppm's camera for the scene, the world mirror (identity or a reflection) to apply to
+/// every world-space transform, and the film's crop window.
 pub fn camera(
     desc: &Description,
     path: &Path,
     warnings: &mut Vec<String>,
-) -> Result<(Camera, DMat4), LoadError> {
-    let (width, height) = film(desc, warnings)?;
+) -> Result<(Camera, DMat4, Option<PixelBounds>), LoadError> {
+    let ((width, height), crop) = film(desc, warnings)?;
     let default_loc = Loc {
         file: Arc::from(path),
         line: 0,
@@ -132,7 +133,7 @@ pub fn camera(
     )
     .and_then(|c| c.with_lens((lens_radius * s) as f32, (focal_distance * s) as f32))
     .map_err(|e| params.error(e))?;
-    Ok((camera, mirror))
+    Ok((camera, mirror, crop))
 }
 
 /// The reflection through the plane containing `point` with unit normal `n`:
@@ -148,10 +149,14 @@ fn reflection(point: DVec3, n: DVec3) -> DMat4 {
     )
 }
 
-/// The image size of the `Film` (`rgb`, `gbuffer` or `spectral`: ppm writes RGB).
-fn film(desc: &Description, warnings: &mut Vec<String>) -> Result<(u32, u32), LoadError> {
+/// The image size of the `Film` (`rgb`, `gbuffer` or `spectral`: ppm writes RGB) and its
+/// crop window.
+fn film(
+    desc: &Description,
+    warnings: &mut Vec<String>,
+) -> Result<((u32, u32), Option<PixelBounds>), LoadError> {
     let Some(e) = &desc.film else {
-        return Ok((DEFAULT_FILM.0 as u32, DEFAULT_FILM.1 as u32));
+        return Ok(((DEFAULT_FILM.0 as u32, DEFAULT_FILM.1 as u32), None));
     };
     let p = ParamSet::new(
         format!("Film \"{}\"", e.kind),
@@ -179,15 +184,7 @@ fn film(desc: &Description, warnings: &mut Vec<String>) -> Result<(u32, u32), Lo
             e.loc
         ));
     }
-    for name in ["cropwindow", "pixelbounds"] {
-        if p.has(name) {
-            p.get(name);
-            warnings.push(format!(
-                "{}: Film: {name} is not used: render the whole image, or crop with ppm's command line",
-                e.loc
-            ));
-        }
-    }
+    let crop = film_crop(&p, size, warnings)?;
     // The sensor's imaging ratio exposuretime * iso / 100 scales the image (pbrt-v4
     // `PixelSensor`); only the default 1 is supported.
     let iso = p.float("iso", 100.0)?;
@@ -214,5 +211,41 @@ fn film(desc: &Description, warnings: &mut Vec<String>) -> Result<(u32, u32), Lo
     }
     p.ignore(&["savefp16", "diagonal", "writefp16"]);
     p.finish()?;
-    Ok(size)
+    Ok((size, crop))
+}
+
+/// The film's crop: `pixelbounds` (x0 x1 y0 y1, pixels) or `cropwindow` (x0 x1 y0 y1,
+/// fractions rounded up to pixels), the `cropwindow` winning when both are given, as in
+/// pbrt-v4 (`FilmBaseParameters`). pbrt clamps a window that leaves the image; ppm refuses it.
+fn film_crop(
+    p: &ParamSet,
+    size: (u32, u32),
+    warnings: &mut Vec<String>,
+) -> Result<Option<PixelBounds>, LoadError> {
+    let pixels = p.ints("pixelbounds")?;
+    let fractions = p.floats("cropwindow")?;
+    if let (Some(_), Some(_)) = (&pixels, fractions) {
+        warnings.push(format!(
+            "{}: Film: pixelbounds is not used: cropwindow is given too, and wins (as in pbrt-v4)",
+            p.loc
+        ));
+    }
+    if let Some(c) = fractions {
+        let &[x0, x1, y0, y1] = c else {
+            return Err(p.error(format!("cropwindow has {} values, expected 4", c.len())));
+        };
+        return crate::crop::fraction_window([x0, x1, y0, y1], size)
+            .map(Some)
+            .map_err(|m| p.error(format!("cropwindow {m}")));
+    }
+    if let Some(b) = pixels {
+        let &[x0, x1, y0, y1] = b.as_slice() else {
+            return Err(p.error(format!("pixelbounds has {} values, expected 4", b.len())));
+        };
+        let edge = |e: i64| u32::try_from(e).unwrap_or(u32::MAX);
+        return crate::crop::window([edge(x0), edge(x1), edge(y0), edge(y1)], size)
+            .map(Some)
+            .map_err(|m| p.error(format!("pixelbounds {m}")));
+    }
+    Ok(None)
 }

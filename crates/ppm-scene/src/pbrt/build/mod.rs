@@ -5,6 +5,7 @@
 mod camera;
 mod light;
 mod material;
+mod medium;
 mod shape;
 mod texture;
 
@@ -35,15 +36,27 @@ pub fn build(desc: &Description, warnings: &mut Vec<String>) -> Result<SceneBuil
         .map(|(e, _)| e.loc.file.to_path_buf())
         .or_else(|| desc.shapes.first().map(|s| s.entity.loc.file.to_path_buf()))
         .unwrap_or(path);
-    let (camera, mirror) = camera::camera(desc, &file, warnings)?;
+    let (camera, mirror, crop) = camera::camera(desc, &file, warnings)?;
     let mut builder = SceneBuilder::new(camera);
     builder.defaults = RenderDefaults {
         max_depth: max_depth(desc, warnings)?,
+        crop,
         ..RenderDefaults::default()
     };
     settings_warnings(desc, warnings)?;
+    if let Some(names) = &desc.camera_media {
+        if !names.outside.is_empty() {
+            return Err(names.loc.error(format!(
+                "MediumInterface: the camera is in medium \"{}\" (the outside in force at Camera); ppm's camera sees through no medium: bound the medium with a surface instead",
+                names.outside
+            )));
+        }
+    }
 
     let mut materials: HashMap<MaterialKey, (u32, Textured)> = HashMap::new();
+    // Each material as bounding each distinct pair of media: (material, interior and
+    // exterior sigma_a bits) -> the copy's index.
+    let mut bounded: HashMap<(u32, [u32; 6]), u32> = HashMap::new();
     let mut cache = PlyCache::default();
     let mut triangles = 0usize;
     // The shared mesh of each (object, shape) an `ObjectInstance` placed, by its index.
@@ -62,16 +75,25 @@ pub fn build(desc: &Description, warnings: &mut Vec<String>) -> Result<SceneBuil
             Some(i) => i.definition,
             None => mirror * s.ctm,
         };
-        let geometry = shape::geometry(s, to_world, &desc.main_folder, &mut cache, warnings)?;
         let (index, (bsdf, textures)) =
             material_of(desc, s, &mut materials, &mut builder, warnings)?;
+        // A textured shape gets pbrt's uv where the file gives none (`shape.rs`).
+        let textured = !textures.is_empty();
+        let geometry = shape::geometry(
+            s,
+            to_world,
+            &desc.main_folder,
+            &mut cache,
+            textured,
+            warnings,
+        )?;
         let has_uv = match &geometry {
             Geometry::Mesh(m) => !m.uvs.is_empty(),
             Geometry::Sphere(_) => false,
         };
-        if !textures.is_empty() && !has_uv {
+        if textured && !has_uv {
             return Err(s.entity.loc.error(format!(
-                "Shape \"{}\": its material has a texture, and this shape has no uv: a trianglemesh or bilinearmesh with \"point2 uv\", or a plymesh whose file has uv, gives ppm pbrt's uv (pbrt's default uv of meshes and the uv of spheres, disks and cylinders are not supported yet)",
+                "Shape \"{}\": its material has a texture, and this shape has no uv: ppm gives pbrt's uv to a trianglemesh (given or pbrt's default per triangle), a bilinearmesh with \"point2 uv\", a plymesh whose file has uv, a disk and a cylinder (the default uv of a bilinearmesh or of a plymesh without uv, and the uv of an analytic sphere, are not supported yet)",
                 s.entity.kind
             )));
         }
@@ -92,6 +114,36 @@ pub fn build(desc: &Description, warnings: &mut Vec<String>) -> Result<SceneBuil
                             .error(format!("{} cannot be textured", slot.name()))
                     })?;
                 builder.add_material(m)
+            }
+        };
+        // The media on the shape's two sides: its material bounding them (a copy per pair).
+        let material = match &s.media {
+            None => material,
+            Some(names) => {
+                let interface = medium::interface(desc, names)?;
+                if interface.is_clear() {
+                    material
+                } else {
+                    let bits = [interface.interior, interface.exterior]
+                        .map(|v| v.to_array().map(f32::to_bits));
+                    let key = (
+                        material,
+                        [
+                            bits[0][0], bits[0][1], bits[0][2], bits[1][0], bits[1][1], bits[1][2],
+                        ],
+                    );
+                    match bounded.get(&key) {
+                        Some(&k) => k,
+                        None => {
+                            let m = builder.materials[material as usize]
+                                .clone()
+                                .with_medium(interface);
+                            let k = builder.add_material(m);
+                            bounded.insert(key, k);
+                            k
+                        }
+                    }
+                }
             }
         };
         match geometry {

@@ -33,12 +33,15 @@ pub enum Geometry {
 pub struct PlyCache(HashMap<PathBuf, Rc<MeshData>>);
 
 /// The geometry of `shape` moved to the world by `to_world` (the world mirror times the
-/// shape's transform).
+/// shape's transform). When `textured`, a shape the file gives no uv gets pbrt-v4's where
+/// ppm can give it ([`default_triangle_uvs`], [`disk`], [`cylinder`]); untextured shapes keep
+/// their vertices as they always were.
 pub fn geometry(
     shape: &ShapeEntity,
     to_world: DMat4,
     main_folder: &Path,
     cache: &mut PlyCache,
+    textured: bool,
     warnings: &mut Vec<String>,
 ) -> Result<Geometry, LoadError> {
     let e = &shape.entity;
@@ -55,7 +58,7 @@ pub fn geometry(
         }
     }
     p.ignore(&["emissionfilename"]);
-    let mut ply_uvs = Vec::new();
+    let mut made_uvs = Vec::new();
     let (positions, normals, indices) = match e.kind.as_str() {
         "sphere" => {
             let s = sphere(&p, to_world, shape.reverse_orientation)?;
@@ -66,25 +69,38 @@ pub fn geometry(
         "bilinearmesh" => bilinear_mesh(&p, warnings)?,
         "plymesh" => {
             let (parts, uvs) = ply_mesh(&p, main_folder, cache)?;
-            ply_uvs = uvs;
+            made_uvs = uvs;
             parts
         }
-        "disk" => disk(&p)?,
-        "cylinder" => cylinder(&p)?,
+        "disk" => {
+            let (parts, uvs) = disk(&p, textured)?;
+            made_uvs = uvs;
+            parts
+        }
+        "cylinder" => {
+            let (parts, uvs) = cylinder(&p, textured)?;
+            made_uvs = uvs;
+            parts
+        }
         _ => return Err(p.error("shape type not supported yet (trianglemesh, plymesh, bilinearmesh, sphere, disk and cylinder are)")),
     };
     // Per-vertex uv of a trianglemesh or bilinearmesh (checked by `vertices`) or a PLY file
     // is kept as given; textures apply pbrt's conventions on top (`texture.rs`).
-    let uvs = match e.kind.as_str() {
+    let given: Vec<glam::Vec2> = match e.kind.as_str() {
         "trianglemesh" | "bilinearmesh" => p
             .point2s("uv")?
             .unwrap_or_default()
             .iter()
             .map(|uv| uv.as_vec2())
             .collect(),
-        "plymesh" => ply_uvs,
-        _ => Vec::new(),
+        _ => made_uvs,
     };
+    let ((positions, normals, indices), uvs) =
+        if textured && given.is_empty() && e.kind == "trianglemesh" {
+            default_triangle_uvs((positions, normals, indices))
+        } else {
+            ((positions, normals, indices), given)
+        };
     p.finish()?;
     let mut mesh = place(
         positions,
@@ -245,7 +261,14 @@ fn ply_mesh(
 
 /// `disk`: radius `radius` at z = `height`, normal +z, as a fan of [`SEGMENTS`] triangles (a
 /// regular polygon keeping 99.96 % of the area); partial or annular disks are errors.
-fn disk(p: &ParamSet) -> Result<Parts, LoadError> {
+///
+/// With `uv`, pbrt-v4's (`Disk`, shapes.h): u = phi / phiMax, v = (radius - r) / (radius -
+/// innerradius), phi = atan2(y, x) in [0, 2 pi), so u = i / SEGMENTS on the rim's i-th vertex
+/// (the first repeated at u = 1 to close the seam) and v = 1 at the centre, which each
+/// triangle then has a copy of at its wedge's middle u. Interpolated linearly across a
+/// triangle they equal pbrt's at the vertices; inside, u differs by at most 1 / (2
+/// SEGMENTS) near the centre and v by the polygon's 0.03 % of the radius.
+fn disk(p: &ParamSet, uv: bool) -> Result<(Parts, Vec<glam::Vec2>), LoadError> {
     let height = p.float("height", 0.0)?;
     let radius = p.float("radius", 1.0)?;
     if p.float("innerradius", 0.0)? != 0.0 {
@@ -257,20 +280,42 @@ fn disk(p: &ParamSet) -> Result<Parts, LoadError> {
     if !(radius > 0.0 && radius.is_finite()) {
         return Err(p.error(format!("radius {radius} is not positive")));
     }
-    let mut positions = vec![DVec3::new(0.0, 0.0, height)];
-    for i in 0..SEGMENTS {
-        let a = TAU * i as f64 / SEGMENTS as f64;
-        positions.push(DVec3::new(radius * a.cos(), radius * a.sin(), height));
-    }
     let n = SEGMENTS as u32;
-    let indices = (0..n).map(|i| [0, 1 + i, 1 + (i + 1) % n]).collect();
-    Ok((positions, Vec::new(), indices))
+    let rim = |i: u32| {
+        let a = TAU * i as f64 / SEGMENTS as f64;
+        DVec3::new(radius * a.cos(), radius * a.sin(), height)
+    };
+    if !uv {
+        let mut positions = vec![DVec3::new(0.0, 0.0, height)];
+        positions.extend((0..n).map(rim));
+        let indices = (0..n).map(|i| [0, 1 + i, 1 + (i + 1) % n]).collect();
+        return Ok(((positions, Vec::new(), indices), Vec::new()));
+    }
+    // Rim vertices 0..=n (the last at phi = 2 pi, u = 1), then one centre per triangle.
+    let mut positions: Vec<DVec3> = (0..=n).map(rim).collect();
+    let mut uvs: Vec<glam::Vec2> = (0..=n)
+        .map(|i| glam::Vec2::new(i as f32 / n as f32, 0.0))
+        .collect();
+    let mut indices = Vec::with_capacity(SEGMENTS);
+    for i in 0..n {
+        let centre = positions.len() as u32;
+        positions.push(DVec3::new(0.0, 0.0, height));
+        uvs.push(glam::Vec2::new((i as f32 + 0.5) / n as f32, 1.0));
+        indices.push([centre, i, i + 1]);
+    }
+    Ok(((positions, Vec::new(), indices), uvs))
 }
 
 /// `cylinder`: the open tube of `radius` around z from `zmin` to `zmax` (pbrt-v4's defaults
 /// 1, -1, 1), [`SEGMENTS`] quads around with radial vertex normals, facing outward as pbrt's
 /// cross(dp/du, dp/dv) does; a partial one (`phimax` < 360) is an error.
-fn cylinder(p: &ParamSet) -> Result<Parts, LoadError> {
+///
+/// With `uv`, pbrt-v4's (`Cylinder`, shapes.h): u = phi / phiMax with phi = atan2(y, x) in
+/// [0, 2 pi), v = (z - zmin) / (zmax - zmin) with zmin the smaller z; the column at phi = 0
+/// is repeated at u = 1 to close the seam. v is exact across each quad, u exact at the
+/// vertices and linear in between (pbrt's is linear in the angle, not along the chord: they
+/// differ by less than 1e-5).
+fn cylinder(p: &ParamSet, uv: bool) -> Result<(Parts, Vec<glam::Vec2>), LoadError> {
     let radius = p.float("radius", 1.0)?;
     let (z0, z1) = (p.float("zmin", -1.0)?, p.float("zmax", 1.0)?);
     if p.float("phimax", 360.0)? < 360.0 {
@@ -281,24 +326,61 @@ fn cylinder(p: &ParamSet) -> Result<Parts, LoadError> {
             "radius {radius} from z {z0} to {z1}: expected a positive radius and zmin != zmax"
         )));
     }
+    // Columns around: SEGMENTS, or one more (the seam's copy) with uv.
+    let columns = SEGMENTS as u32 + u32::from(uv);
     let (mut positions, mut normals, mut indices) = (Vec::new(), Vec::new(), Vec::new());
-    for i in 0..SEGMENTS {
+    let mut uvs = Vec::new();
+    for i in 0..columns {
         let a = TAU * i as f64 / SEGMENTS as f64;
         let radial = DVec3::new(a.cos(), a.sin(), 0.0);
-        for z in [z0.min(z1), z0.max(z1)] {
+        for (z, v) in [(z0.min(z1), 0.0), (z0.max(z1), 1.0)] {
             positions.push(radius * radial + DVec3::new(0.0, 0.0, z));
             normals.push(radial);
+            if uv {
+                uvs.push(glam::Vec2::new(i as f32 / SEGMENTS as f32, v));
+            }
         }
     }
     let n = SEGMENTS as u32;
     for i in 0..n {
+        let next = if uv { i + 1 } else { (i + 1) % n };
         let (a0, b0) = (2 * i, 2 * i + 1);
-        let (a1, b1) = (2 * ((i + 1) % n), 2 * ((i + 1) % n) + 1);
+        let (a1, b1) = (2 * next, 2 * next + 1);
         // cross(a1 - a0, b1 - a0) points along the radial direction: outward.
         indices.push([a0, a1, b1]);
         indices.push([a0, b1, b0]);
     }
-    Ok((positions, normals, indices))
+    Ok(((positions, normals, indices), uvs))
+}
+
+/// pbrt-v4's uv of a triangle whose mesh gives none (`Triangle`, shapes.h): (0, 0), (1, 0),
+/// (1, 1) at its three vertices in the file's order, so uv = (b1 + b2, b2) for barycentrics
+/// (b0, b1, b2). Vertices are unshared (three per triangle) to carry them; this runs only for
+/// textured meshes, before `place` may reorder a triangle's vertices (which keep their uv).
+fn default_triangle_uvs((positions, normals, indices): Parts) -> (Parts, Vec<glam::Vec2>) {
+    const CORNERS: [glam::Vec2; 3] = [
+        glam::Vec2::new(0.0, 0.0),
+        glam::Vec2::new(1.0, 0.0),
+        glam::Vec2::new(1.0, 1.0),
+    ];
+    let mut unshared = (
+        Vec::with_capacity(3 * indices.len()),
+        Vec::new(),
+        Vec::with_capacity(indices.len()),
+    );
+    let mut uvs = Vec::with_capacity(3 * indices.len());
+    for t in &indices {
+        let first = unshared.0.len() as u32;
+        for (k, &i) in t.iter().enumerate() {
+            unshared.0.push(positions[i as usize]);
+            if !normals.is_empty() {
+                unshared.1.push(normals[i as usize]);
+            }
+            uvs.push(CORNERS[k]);
+        }
+        unshared.2.push([first, first + 1, first + 2]);
+    }
+    (unshared, uvs)
 }
 
 /// `sphere`: a full sphere of `radius` at the object's origin, moved by `m` (which must keep

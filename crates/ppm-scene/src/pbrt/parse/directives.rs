@@ -6,7 +6,7 @@ use super::{resolve, Parser, Push, MAX_ATTRIBUTE_DEPTH};
 use crate::pbrt::lexer::{Lexer, Token};
 use crate::pbrt::params::Param;
 use crate::pbrt::scene::{
-    Entity, LightEntity, MaterialEntity, MaterialRef, ShapeEntity, TextureEntity,
+    Entity, LightEntity, MaterialEntity, MaterialRef, MediaNames, ShapeEntity, TextureEntity,
 };
 use crate::pbrt::Loc;
 use crate::LoadError;
@@ -149,6 +149,7 @@ impl Parser {
                     "Camera" => {
                         let ctm = self.state.ctm;
                         self.named_systems.insert("camera".into(), ctm.inverse());
+                        self.desc.camera_media = self.state.media.clone();
                         if self.desc.camera.is_some() {
                             return Err(entity.loc.error("a second Camera"));
                         }
@@ -177,6 +178,7 @@ impl Parser {
                     material: self.state.material.clone(),
                     area_light: self.state.area_light.clone(),
                     instance: None,
+                    media: self.state.media.clone(),
                 };
                 match &mut self.object {
                     Some((name, _, shapes)) => {
@@ -330,8 +332,33 @@ impl Parser {
                 );
                 *slot = Rc::new(merged);
             }
-            "MakeNamedMedium" | "MediumInterface" => {
-                return Err(loc.error(format!("{d}: participating media are not supported yet")))
+            "MakeNamedMedium" => {
+                let (name, _) = self.string(lexer, "a medium name")?;
+                let params = self.params(lexer)?;
+                if self.desc.media.contains_key(&name) {
+                    return Err(loc.error(format!("medium \"{name}\" defined twice")));
+                }
+                let entity = Entity {
+                    kind: String::new(),
+                    params,
+                    loc,
+                };
+                self.desc.media.insert(name, entity);
+            }
+            "MediumInterface" => {
+                // One name is both sides; two are inside, then outside.
+                let (inside, _) = self.string(lexer, "a medium name")?;
+                let outside = match lexer.peek()? {
+                    Some((Token::Str(_), _)) => self.string(lexer, "a medium name")?.0,
+                    _ => inside.clone(),
+                };
+                self.state.media = (!inside.is_empty() || !outside.is_empty()).then(|| {
+                    Rc::new(MediaNames {
+                        inside,
+                        outside,
+                        loc,
+                    })
+                });
             }
             _ => return Err(loc.error(format!("unknown directive `{d}`"))),
         }

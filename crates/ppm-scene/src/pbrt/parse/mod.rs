@@ -15,7 +15,7 @@ pub use directives::look_at;
 
 use super::lexer::{Lexer, Token};
 use super::params::{Param, ParamType, Values};
-use super::scene::{Description, Entity, MaterialEntity, MaterialRef, ShapeEntity};
+use super::scene::{Description, Entity, MaterialEntity, MaterialRef, MediaNames, ShapeEntity};
 use super::Loc;
 use crate::LoadError;
 use glam::DMat4;
@@ -45,6 +45,8 @@ struct GraphicsState {
     shape_defaults: Rc<Vec<Param>>,
     light_defaults: Rc<Vec<Param>>,
     material_defaults: Rc<Vec<Param>>,
+    /// The `MediumInterface` in force (`None`: no medium on either side).
+    media: Option<Rc<MediaNames>>,
 }
 
 /// What pushed a saved state.
@@ -119,6 +121,7 @@ impl Parser {
                 shape_defaults: Rc::default(),
                 light_defaults: Rc::default(),
                 material_defaults: Rc::default(),
+                media: None,
             },
             pushed: Vec::new(),
             named_systems: HashMap::new(),
