@@ -167,7 +167,7 @@ fn unsupported_materials_and_textures_are_errors_naming_them() {
         ("Material \"diffuse\" \"float displacement\" 1", "unknown or unsupported parameter \"float displacement\""),
         ("Texture \"t\" \"spectrum\" \"marble\"\nMaterial \"diffuse\" \"texture reflectance\" \"t\"", "scene.pbrt:8:20: Material \"diffuse\": \"texture reflectance\": texture \"t\" (spectrum \"marble\" at scene.pbrt:7:1) is not supported yet"),
         ("Texture \"t\" \"spectrum\" \"checkerboard\"\nMaterial \"conductor\" \"texture reflectance\" \"t\"", "texture \"t\" (spectrum \"checkerboard\" at scene.pbrt:7:1) is not supported yet here"),
-        ("Material \"conductor\" \"texture roughness\" \"r\"", "float textures (\"r\") are not supported yet"),
+        ("Material \"conductor\" \"texture roughness\" \"r\"", "no texture \"r\""),
         ("Material \"coateddiffuse\" \"rgb albedo\" [0.5 0.5 0.5]", "a scattering coating (albedo > 0) is not supported yet"),
     ];
     for (body, want) in cases {

@@ -56,6 +56,23 @@ impl GatherNormals {
             0.0
         }
     }
+
+    /// [`GatherNormals::weight`] for a light vertex on either side of the surface, as VCM's
+    /// merging needs at a vertex whose BSDF transmits (a rough dielectric): light that
+    /// arrived from the far side is refracted toward the viewer, and the irradiance it
+    /// brings has the same cosine ratio |wi . ns| / |wi . ng|. 0 when wi lies on different
+    /// sides of the two normals (a direction the shading normal would leak through) or in
+    /// the geometric plane. A BSDF that only reflects evaluates to zero for the far side, so
+    /// there this is [`GatherNormals::weight`].
+    #[inline]
+    pub fn weight_either_side(&self, wi: Vec3) -> f32 {
+        let w = wi.dot(self.shading) / wi.dot(self.geometric);
+        if w > 0.0 && w < f32::INFINITY {
+            w
+        } else {
+            0.0
+        }
+    }
 }
 
 #[cfg(test)]
@@ -89,5 +106,23 @@ mod tests {
         assert!(flat.is_flat() && !normals.is_flat());
         assert_eq!(flat.weight(Vec3::new(0.3, 0.01, -0.4)), 1.0);
         assert_eq!(flat.weight(Vec3::new(0.3, -0.01, -0.4)), 0.0);
+    }
+
+    /// VCM's merge at a transmitting vertex: a light vertex from the far side weighs the
+    /// same cosine ratio as its mirror image on the viewer's side; one between the two
+    /// normals' planes (opposite sides of them) or in the geometric plane weighs nothing.
+    #[test]
+    fn light_vertices_from_the_far_side_weigh_the_same_ratio() {
+        let normals = GatherNormals {
+            geometric: Vec3::Y,
+            shading: Vec3::new(0.6, 0.8, 0.0),
+        };
+        for wi in [Vec3::new(0.0, 1.0, 0.0), Vec3::new(0.3, 0.5, 0.2)] {
+            assert_eq!(normals.weight_either_side(wi), normals.weight(wi));
+            assert_eq!(normals.weight_either_side(-wi), normals.weight(wi));
+        }
+        assert_eq!(normals.weight_either_side(Vec3::new(-0.9, 0.1, 0.0)), 0.0);
+        assert_eq!(normals.weight_either_side(Vec3::new(0.9, -0.1, 0.0)), 0.0);
+        assert_eq!(normals.weight_either_side(Vec3::Z), 0.0);
     }
 }

@@ -323,9 +323,10 @@ impl CameraPass<'_> {
     /// M = 1 / (pi r^2 N_light) sum_y f_x(wo, wi_y) T_y (|wi_y . ns| / |wi_y . ng|) w_y,
     ///
     /// the cosine ratio turning the light vertices' density per unit of geometric area (an
-    /// irradiance with the geometric cosine) into the shading cosine the reflected radiance
-    /// takes at x ([`crate::photon::GatherNormals::weight`], the weight of ppm's and sppm's
-    /// photons; 1 when flat), and
+    /// irradiance with the geometric cosine, from either side of the surface) into the
+    /// shading cosine the reflected or transmitted radiance takes at x
+    /// ([`crate::photon::GatherNormals::weight_either_side`]; ppm's and sppm's photons,
+    /// gathered on diffuse surfaces only, take the one-sided weight; 1 when flat), and
     ///
     /// w_light = dVCM_y mis(1/eta_VCM) + dVM_y mis(p_x(wo -> wi_y)),
     /// w_camera = dVCM_x mis(1/eta_VCM) + dVM_x mis(p_x(wi_y -> wo)).
@@ -340,7 +341,9 @@ impl CameraPass<'_> {
                 if x.edges + y.edges > self.max_edges {
                     return;
                 }
-                let ratio = normals.weight(y.wo);
+                // Light vertices on either side: at a rough dielectric the far side's light
+                // is transmitted toward the camera (f_x evaluates to zero where it cannot be).
+                let ratio = normals.weight_either_side(y.wo);
                 if ratio <= 0.0 {
                     return;
                 }

@@ -3,17 +3,22 @@
 //! Roughness: pbrt-v4's `uroughness`/`vroughness` (or `roughness` for both) become the GGX
 //! (Trowbridge-Reitz) alpha through `RoughnessToAlpha`, alpha = sqrt(roughness), unless
 //! `remaproughness` is false (then alpha = roughness); alpha < 1e-3 is pbrt's "effectively
-//! smooth" (`TrowbridgeReitzDistribution::EffectivelySmooth`), a smooth interface.
+//! smooth" (`TrowbridgeReitzDistribution::EffectivelySmooth`), a smooth interface. A
+//! conductor's or dielectric's roughness may be a float texture (`"texture roughness"`,
+//! `texture.rs`): its alphas become the material's [`ColourSlot::Roughness`], with their mean
+//! as the nominal alpha. pbrt decides "effectively smooth" per shading point; ppm per
+//! material (smooth only if every texel is), so a texel below alpha 1e-3 among rougher ones is
+//! rendered as GGX with alpha at least 1e-4, a lobe as narrow as a delta to the eye.
 
 use super::super::params::{Param, ParamSet, ParamType};
 use super::super::scene::{Description, MaterialEntity};
 use super::super::spectrum::{self, IorPart, SpectrumValue};
-use super::texture::reflectance_texture;
+use super::texture::{reflectance_texture, roughness_texture};
 use crate::LoadError;
 use glam::DVec3;
 use ppm_core::bsdf::microfacet::{Ggx, Microfacet};
 use ppm_core::bsdf::Bsdf;
-use ppm_core::texture::{ColourSlot, Texture};
+use ppm_core::texture::{texture_scalar, ColourSlot, Texture};
 
 /// The BSDF of material `m` and the textures that drive its colours (a `diffuse`
 /// `reflectance` may be an `imagemap` or `checkerboard` texture, `texture.rs`).
@@ -36,6 +41,13 @@ pub fn bsdf(
         _ => e.kind.clone(),
     };
     let mut textures = Vec::new();
+    let mut rough = |p: &ParamSet, textures: &mut Vec<(ColourSlot, Texture)>| {
+        let (distribution, texture) = roughness(desc, p, warnings)?;
+        if let Some(t) = texture {
+            textures.push((ColourSlot::Roughness, t));
+        }
+        Ok::<_, LoadError>(distribution)
+    };
     let bsdf = match kind.as_str() {
         "diffuse" => {
             if let Some((SpectrumValue::Texture(t), param)) = p.spectrum("reflectance")? {
@@ -48,13 +60,24 @@ pub fn bsdf(
             }
             Bsdf::diffuse(reflectance(desc, &p, "reflectance", 0.5)?.as_vec3())
         }
-        "conductor" => conductor(desc, &p)?,
+        "conductor" => {
+            let distribution = rough(&p, &mut textures)?;
+            conductor(desc, &p, distribution)?
+        }
         "dielectric" => {
             let eta = eta(&p)?;
-            Bsdf::dielectric(eta as f32, roughness(&p)?)
+            Bsdf::dielectric(eta as f32, rough(&p, &mut textures)?)
         }
         "thindielectric" => Bsdf::thin_dielectric(eta(&p)? as f32),
-        "coateddiffuse" => coated_diffuse(desc, &p, warnings)?,
+        "coateddiffuse" => {
+            let (distribution, texture) = roughness(desc, &p, warnings)?;
+            if texture.is_some() {
+                return Err(p.error(
+                    "a roughness texture on coateddiffuse is not supported yet (ppm's plastic tabulates its coating per roughness)",
+                ));
+            }
+            coated_diffuse(desc, &p, distribution, warnings)?
+        }
         "interface" | "none" => {
             return Err(p.error(format!(
                 "\"{kind}\" (no surface, a medium boundary) is not supported yet"
@@ -137,13 +160,58 @@ fn plain_float(p: &ParamSet, name: &str, default: f64) -> Result<f64, LoadError>
     }
 }
 
+/// A roughness parameter: a float, or the name of a texture (and its parameter).
+#[derive(Clone)]
+enum RoughnessParam<'a> {
+    Value(f64),
+    Texture(String, &'a Param),
+}
+
+/// Roughness parameter `name` of `p`, `default` when not given.
+fn roughness_param<'a>(
+    p: &ParamSet<'a>,
+    name: &str,
+    default: RoughnessParam<'a>,
+) -> Result<RoughnessParam<'a>, LoadError> {
+    Ok(match p.float_or_texture(name)? {
+        None => default,
+        Some(Ok(r)) => RoughnessParam::Value(r),
+        Some(Err((t, param))) => RoughnessParam::Texture(t, param),
+    })
+}
+
 /// The GGX distribution of `roughness`/`uroughness`/`vroughness` (see the module
-/// documentation); `None` when effectively smooth.
-fn roughness(p: &ParamSet) -> Result<Option<Microfacet>, LoadError> {
-    let both = plain_float(p, "roughness", 0.0)?;
-    let u = plain_float(p, "uroughness", both)?;
-    let v = plain_float(p, "vroughness", both)?;
+/// documentation), `None` when effectively smooth, and the texture of its alphas when the
+/// roughness is a texture.
+fn roughness(
+    desc: &Description,
+    p: &ParamSet,
+    warnings: &mut Vec<String>,
+) -> Result<(Option<Microfacet>, Option<Texture>), LoadError> {
+    let both = roughness_param(p, "roughness", RoughnessParam::Value(0.0))?;
+    let u = roughness_param(p, "uroughness", both.clone())?;
+    let v = roughness_param(p, "vroughness", both)?;
     let remap = p.bool("remaproughness", true)?;
+    let (u, v) = match (u, v) {
+        (RoughnessParam::Value(u), RoughnessParam::Value(v)) => (u, v),
+        (RoughnessParam::Texture(tu, param), RoughnessParam::Texture(tv, _)) if tu == tv => {
+            match roughness_texture(desc, p, param, &tu, remap, warnings)? {
+                Ok(r) => (r, r),
+                Err(texture) => {
+                    let alpha = texture_scalar(texture.mean());
+                    if texture.max_value() < 1e-3 {
+                        return Ok((None, None));
+                    }
+                    return Ok((Some(Ggx::isotropic(alpha).into()), Some(texture)));
+                }
+            }
+        }
+        _ => {
+            return Err(p.error(
+                "anisotropic roughness (uroughness and vroughness not the same texture) is not supported yet: ppm's meshes carry no surface tangent to orient it",
+            ))
+        }
+    };
     for r in [u, v] {
         if !(r >= 0.0 && r.is_finite()) {
             return Err(p.error(format!("roughness {r} is negative")));
@@ -152,14 +220,14 @@ fn roughness(p: &ParamSet) -> Result<Option<Microfacet>, LoadError> {
     let alpha = |r: f64| if remap { r.sqrt() } else { r };
     let (ax, ay) = (alpha(u), alpha(v));
     if ax.max(ay) < 1e-3 {
-        return Ok(None);
+        return Ok((None, None));
     }
     if ax != ay {
         return Err(p.error(format!(
             "anisotropic roughness (u {u}, v {v}) is not supported yet: ppm's meshes carry no surface tangent to orient it"
         )));
     }
-    Ok(Some(Ggx::isotropic(ax as f32).into()))
+    Ok((Some(Ggx::isotropic(ax as f32).into()), None))
 }
 
 /// `eta` of a dielectric: a float, a constant spectrum, or a named glass (its index at 550 nm:
@@ -191,8 +259,11 @@ fn eta(p: &ParamSet) -> Result<f64, LoadError> {
 /// `conductor`: `eta` + `k` (default pbrt's copper, `metal-Cu-eta`/`metal-Cu-k`), or
 /// `reflectance` r, which pbrt-v4 turns into eta = 1, k = 2 sqrt(r) / sqrt(1 - r) (the
 /// conductor whose normal-incidence Fresnel reflectance is r).
-fn conductor(desc: &Description, p: &ParamSet) -> Result<Bsdf, LoadError> {
-    let roughness = roughness(p)?;
+fn conductor(
+    desc: &Description,
+    p: &ParamSet,
+    roughness: Option<Microfacet>,
+) -> Result<Bsdf, LoadError> {
     if p.has("reflectance") {
         if p.has("eta") || p.has("k") {
             return Err(p.error("give either reflectance or eta and k, not both"));
@@ -236,11 +307,11 @@ fn conductor(desc: &Description, p: &ParamSet) -> Result<Bsdf, LoadError> {
 fn coated_diffuse(
     desc: &Description,
     p: &ParamSet,
+    roughness: Option<Microfacet>,
     warnings: &mut Vec<String>,
 ) -> Result<Bsdf, LoadError> {
     let base = reflectance(desc, p, "reflectance", 0.5)?;
     let eta = eta(p)?;
-    let roughness = roughness(p)?;
     let albedo = reflectance(desc, p, "albedo", 0.0)?;
     if albedo != DVec3::ZERO {
         return Err(p.error("a scattering coating (albedo > 0) is not supported yet"));

@@ -1,5 +1,6 @@
 //! `Texture "name" "spectrum" "imagemap"` and `"checkerboard"` as a material's reflectance,
-//! to ppm's [`Bitmap`] and [`Checkerboard`].
+//! and `Texture "name" "float" ...` (`constant`, `imagemap`, `checkerboard`) as a conductor's
+//! or dielectric's roughness, to ppm's [`Bitmap`] and [`Checkerboard`].
 //!
 //! # uv conventions
 //! pbrt-v4's `UVMapping` maps the surface's (u, v) to (s, t) = (uscale u + udelta,
@@ -12,12 +13,32 @@
 //! color0 = tex1.
 
 use super::super::params::{Param, ParamSet};
-use super::super::scene::Description;
+use super::super::scene::{Description, TextureEntity};
 use super::super::spectrum::{self, SpectrumValue};
 use crate::image_file::read_rgb_image;
 use crate::LoadError;
 use glam::{DVec3, Vec2, Vec3};
 use ppm_core::texture::{Bitmap, Checkerboard, Filter, Texture, UvTransform, WrapMode};
+
+/// What a texture's values become: a reflectance (RGB in [0, 1]), or the GGX alpha of a
+/// float roughness r (pbrt-v4's `RoughnessToAlpha`: alpha = sqrt(r) when `remap`, else r),
+/// stored as a grey colour for [`ColourSlot::Roughness`](ppm_core::texture::ColourSlot).
+#[derive(Clone, Copy)]
+enum Values {
+    Reflectance,
+    Alpha { remap: bool },
+}
+
+impl Values {
+    /// The alpha of roughness `r`.
+    fn alpha(remap: bool, r: f64) -> f64 {
+        if remap {
+            r.sqrt()
+        } else {
+            r
+        }
+    }
+}
 
 /// The texture `name` that parameter `param` of `p` names, as a reflectance; `None` for a
 /// `constant` texture (the caller reads its value).
@@ -36,12 +57,73 @@ pub fn reflectance_texture(
     {
         return Ok(None);
     }
-    let tp = ParamSet::new(
+    uv_texture(desc, t, name, Values::Reflectance, warnings).map(Some)
+}
+
+/// A float roughness given as texture `name` (parameter `param` of `p`): a `constant`
+/// texture's roughness r as `Ok(r)`, an `imagemap` (a grey image: pbrt reads a float image's
+/// first channel, which ppm takes only where the three are equal) or a `checkerboard` (float
+/// `tex1`, `tex2`) as the texture of its GGX alphas (alpha = sqrt(r) per texel when `remap`).
+pub fn roughness_texture(
+    desc: &Description,
+    p: &ParamSet,
+    param: &Param,
+    name: &str,
+    remap: bool,
+    warnings: &mut Vec<String>,
+) -> Result<Result<f64, Texture>, LoadError> {
+    let t = desc
+        .textures
+        .get(name)
+        .ok_or_else(|| p.error_at(param, format!("no texture \"{name}\"")))?;
+    let supported = t.value_type == "float"
+        && matches!(
+            t.entity.kind.as_str(),
+            "constant" | "imagemap" | "checkerboard"
+        );
+    if !supported {
+        return Err(p.error_at(
+            param,
+            format!(
+                "texture \"{name}\" ({} \"{}\" at {}) is not supported yet as a roughness: float constant, imagemap and checkerboard textures are",
+                t.value_type, t.entity.kind, t.entity.loc
+            ),
+        ));
+    }
+    if t.entity.kind == "constant" {
+        let tp = texture_params(t, name);
+        let r = match tp.float_or_texture("value")? {
+            None => 1.0,
+            Some(Ok(r)) => r,
+            Some(Err((_, param))) => {
+                return Err(tp.error_at(param, "a texture's value cannot be another texture"))
+            }
+        };
+        tp.finish()?;
+        return Ok(Ok(r));
+    }
+    uv_texture(desc, t, name, Values::Alpha { remap }, warnings).map(Err)
+}
+
+/// The parameters of texture `t` (named `name`).
+fn texture_params<'a>(t: &'a TextureEntity, name: &str) -> ParamSet<'a> {
+    ParamSet::new(
         format!("Texture \"{name}\""),
         t.entity.loc.clone(),
         &t.entity.params,
         &[],
-    );
+    )
+}
+
+/// An `imagemap` or `checkerboard` texture under its uv mapping, its values as `values` says.
+fn uv_texture(
+    desc: &Description,
+    t: &TextureEntity,
+    name: &str,
+    values: Values,
+    warnings: &mut Vec<String>,
+) -> Result<Texture, LoadError> {
+    let tp = texture_params(t, name);
     let mapping = tp.string_opt("mapping")?.unwrap_or("uv");
     if mapping != "uv" {
         return Err(tp.error(format!(
@@ -57,12 +139,12 @@ pub fn reflectance_texture(
         tp.float("vdelta", 0.0)? as f32,
     );
     let texture = if t.entity.kind == "imagemap" {
-        imagemap(desc, &tp, scale, delta, warnings)?
+        imagemap(desc, &tp, scale, delta, values, warnings)?
     } else {
-        checkerboard(&tp, scale, delta)?
+        checkerboard(&tp, scale, delta, values)?
     };
     tp.finish()?;
-    Ok(Some(texture))
+    Ok(texture)
 }
 
 /// `imagemap`: `filename` (relative to the main file's folder), `filter` (point: nearest;
@@ -73,6 +155,7 @@ fn imagemap(
     tp: &ParamSet,
     scale: Vec2,
     delta: Vec2,
+    values: Values,
     warnings: &mut Vec<String>,
 ) -> Result<Texture, LoadError> {
     let name = tp
@@ -120,13 +203,36 @@ fn imagemap(
     let what = format!("imagemap texture image ({})", tp.loc);
     let image = read_rgb_image(&path, &what, raw)?;
     let texels: Vec<Vec3> = image.texels.iter().map(|&c| c * gain).collect();
-    let max = texels.iter().fold(0.0f32, |m, c| m.max(c.max_element()));
-    if !(0.0..=1.0).contains(&max) || texels.iter().any(|c| c.min_element() < 0.0) {
-        return Err(tp.error(format!(
-            "{} times scale {gain} reaches {max}; ppm takes reflectances in [0, 1]",
-            path.display()
-        )));
-    }
+    let texels = match values {
+        Values::Reflectance => {
+            let max = texels.iter().fold(0.0f32, |m, c| m.max(c.max_element()));
+            if !(0.0..=1.0).contains(&max) || texels.iter().any(|c| c.min_element() < 0.0) {
+                return Err(tp.error(format!(
+                    "{} times scale {gain} reaches {max}; ppm takes reflectances in [0, 1]",
+                    path.display()
+                )));
+            }
+            texels
+        }
+        Values::Alpha { remap } => {
+            if texels.iter().any(|c| c.x != c.y || c.y != c.z) {
+                return Err(tp.error(format!(
+                    "{} is not grey: as a float texture pbrt reads its first channel; give a greyscale image",
+                    path.display()
+                )));
+            }
+            if texels.iter().any(|c| !(c.x >= 0.0 && c.x.is_finite())) {
+                return Err(tp.error(format!(
+                    "{} times scale {gain} has a negative roughness",
+                    path.display()
+                )));
+            }
+            texels
+                .iter()
+                .map(|c| Vec3::splat(Values::alpha(remap, c.x as f64) as f32))
+                .collect()
+        }
+    };
     // u' = s, v' = 1 - t (module docs).
     let transform = UvTransform {
         m: [scale.x, 0.0, delta.x, 0.0, -scale.y, 1.0 - delta.y],
@@ -136,8 +242,14 @@ fn imagemap(
     Ok(Texture::Bitmap(bitmap))
 }
 
-/// `checkerboard`, 2D: `tex1` (default 1) and `tex2` (default 0), constant reflectances.
-fn checkerboard(tp: &ParamSet, scale: Vec2, delta: Vec2) -> Result<Texture, LoadError> {
+/// `checkerboard`, 2D: `tex1` (default 1) and `tex2` (default 0), constant reflectances or
+/// (float textures) constant roughnesses.
+fn checkerboard(
+    tp: &ParamSet,
+    scale: Vec2,
+    delta: Vec2,
+    values: Values,
+) -> Result<Texture, LoadError> {
     let dimension = tp.int("dimension", 2)?;
     if dimension != 2 {
         return Err(tp.error(format!(
@@ -145,6 +257,19 @@ fn checkerboard(tp: &ParamSet, scale: Vec2, delta: Vec2) -> Result<Texture, Load
         )));
     }
     let colour = |name: &str, default: f64| -> Result<Vec3, LoadError> {
+        if let Values::Alpha { remap } = values {
+            return match tp.float_or_texture(name)? {
+                None => Ok(Vec3::splat(Values::alpha(remap, default) as f32)),
+                Some(Ok(r)) if r >= 0.0 && r.is_finite() => {
+                    Ok(Vec3::splat(Values::alpha(remap, r) as f32))
+                }
+                Some(Ok(r)) => Err(tp.error(format!("roughness {name} {r} is negative"))),
+                Some(Err((t, param))) => Err(tp.error_at(
+                    param,
+                    format!("a texture (\"{t}\") is not supported here yet"),
+                )),
+            };
+        }
         let Some((value, param)) = tp.spectrum(name)? else {
             return Ok(Vec3::splat(default as f32));
         };
