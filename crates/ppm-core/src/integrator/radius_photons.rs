@@ -39,9 +39,10 @@
 
 use super::camera_walk::RayCounters;
 use super::footprint::{pilot_points, PilotPoint};
+use super::runner::Poll;
 use super::{
     gather_limit, trace_light_path, DirectMode, PhotonCounters, Radius, RenderSettings, Setting,
-    DEFAULT_PHOTONS, PHOTONS_PER_PATH,
+    Stop, DEFAULT_PHOTONS, PHOTONS_PER_PATH,
 };
 use crate::photon::{HashGrid, Photon, PhotonBuffer};
 use crate::scene::Scene;
@@ -108,12 +109,14 @@ pub fn nearest_photon_distance(
 }
 
 /// The pilot photon map: [`PILOT_LIGHT_PATHS`] light paths of `settings` (their depth, and
-/// their direct-light mode where the algorithm reads it) on the pilot's own stream.
+/// their direct-light mode where the algorithm reads it) on the pilot's own stream; `None` if
+/// `poll` says stop (asked between light paths: in a deep closed scene the pilot pass is long).
 fn pilot_photons(
     scene: &Scene,
     settings: &RenderSettings,
     counters: &mut RayCounters,
-) -> Vec<Photon> {
+    poll: &Poll,
+) -> Option<Vec<Photon>> {
     // The photons the render's estimate counts: with `--direct sampled` ppm and sppm store
     // none of the first bounce; vcm merges light vertices of every bounce (and does not read
     // the direct-light mode, so its radius must not depend on it).
@@ -138,14 +141,20 @@ fn pilot_photons(
                 let mut writer = buffer.writer();
                 let end = ((task + 1) * PATHS_PER_TASK).min(PILOT_LIGHT_PATHS);
                 for path in task * PATHS_PER_TASK..end {
+                    if poll.stopped() {
+                        break;
+                    }
                     trace_light_path(scene, &pilot, 0, path, &mut writer, &mut light);
                 }
                 light.rays
             })
             .sum::<u64>();
+        if poll.stopped() {
+            return None;
+        }
         if !buffer.overflowed() {
             counters.rays += rays;
-            return buffer.as_slice().to_vec();
+            return Some(buffer.as_slice().to_vec());
         }
         let needed = buffer.pushed();
         buffer.grow(needed + needed / 4);
@@ -244,10 +253,23 @@ pub fn photon_radii_with(
     k: usize,
     counters: &mut RayCounters,
 ) -> Vec<f32> {
+    let never = || false;
+    photon_radii_until(scene, settings, k, counters, &Poll::new(&never))
+        .expect("a pass that is never stopped finishes")
+}
+
+/// [`photon_radii_with`], abandoned (`None`) if `poll` says stop during the pilot photon pass.
+fn photon_radii_until(
+    scene: &Scene,
+    settings: &RenderSettings,
+    k: usize,
+    counters: &mut RayCounters,
+    poll: &Poll,
+) -> Option<Vec<f32>> {
     let k = k.max(1);
     let s = settings;
     let points = pilot_points(scene, s.seed, s.max_depth, s.rr_depth, counters);
-    let photons = pilot_photons(scene, settings, counters);
+    let photons = pilot_photons(scene, settings, counters, poll)?;
     let distances = pixel_distances(scene, settings, &points, &photons, k);
     let found: Vec<f32> = distances
         .iter()
@@ -256,40 +278,53 @@ pub fn photon_radii_with(
         .filter(|d| d.is_finite() && *d > 0.0)
         .collect();
     if found.is_empty() {
-        return super::pilot_radii(scene, s.seed, s.max_depth, s.rr_depth, counters);
-    }
-    let mid = median(&found);
-    let cap = CAP * mid;
-    points
-        .iter()
-        .zip(&distances)
-        .map(|(point, d)| match (point, d) {
-            (_, Some(d)) if d.is_finite() && *d > 0.0 => d.min(cap),
-            (Some(_), _) => cap,
-            (None, _) => mid,
-        })
-        .collect()
-}
-
-/// Every pixel's initial radius (row-major) under a per-pixel rule (`auto`: the footprint,
-/// [`super::pilot_radii`]; `photons`: [`photon_radii`]); `None` for a world radius. The one
-/// place ppm, sppm and vcm choose between the rules.
-pub fn initial_pixel_radii(
-    scene: &Scene,
-    settings: &RenderSettings,
-    counters: &mut RayCounters,
-) -> Option<Vec<f32>> {
-    let s = settings;
-    match s.radius {
-        Radius::World(_) => None,
-        Radius::Auto => Some(super::pilot_radii(
+        return Some(super::pilot_radii(
             scene,
             s.seed,
             s.max_depth,
             s.rr_depth,
             counters,
-        )),
-        Radius::Photons => Some(photon_radii(scene, settings, counters)),
+        ));
+    }
+    let mid = median(&found);
+    let cap = CAP * mid;
+    Some(
+        points
+            .iter()
+            .zip(&distances)
+            .map(|(point, d)| match (point, d) {
+                (_, Some(d)) if d.is_finite() && *d > 0.0 => d.min(cap),
+                (Some(_), _) => cap,
+                (None, _) => mid,
+            })
+            .collect(),
+    )
+}
+
+/// Every pixel's initial radius (row-major) under a per-pixel rule (`auto`: the footprint,
+/// [`super::pilot_radii`]; `photons`: [`photon_radii`]); `Some(None)` for a world radius, and
+/// `None` if `stop` said yes during the pilot pass (the caller abandons its iteration). The one
+/// place ppm, sppm and vcm choose between the rules.
+pub fn initial_pixel_radii(
+    scene: &Scene,
+    settings: &RenderSettings,
+    counters: &mut RayCounters,
+    stop: Stop,
+) -> Option<Option<Vec<f32>>> {
+    let s = settings;
+    match s.radius {
+        Radius::World(_) => Some(None),
+        Radius::Auto => Some(Some(super::pilot_radii(
+            scene,
+            s.seed,
+            s.max_depth,
+            s.rr_depth,
+            counters,
+        ))),
+        Radius::Photons => {
+            let poll = Poll::new(stop);
+            photon_radii_until(scene, settings, NEAREST_PHOTONS, counters, &poll).map(Some)
+        }
     }
 }
 

@@ -226,7 +226,7 @@ impl Integrator for PpmRenderer {
         let mut clock = Stopwatch::start();
         let mut pilot = RayCounters::default();
         if self.settings.radius.per_pixel() && self.pixel_radii.is_none() {
-            if let Some(initial) = initial_pixel_radii(scene, &self.settings, &mut pilot) {
+            if let Some(initial) = initial_pixel_radii(scene, &self.settings, &mut pilot, stop)? {
                 let grid = quantile(&initial, GRID_QUANTILE);
                 self.pixel_radii = Some(PixelRadii { initial, grid });
             }

@@ -275,7 +275,7 @@ impl Integrator for SppmRenderer {
         let mut pilot = RayCounters::default();
         if self.radii_pending {
             // Pending only under a per-pixel rule, which always gives radii.
-            if let Some(radii) = initial_pixel_radii(scene, &self.settings, &mut pilot) {
+            if let Some(radii) = initial_pixel_radii(scene, &self.settings, &mut pilot, stop)? {
                 for (local, statistics) in self.statistics.iter_mut().enumerate() {
                     *statistics = PixelStatistics::new(radii[self.bounds.full_index(local)]);
                 }

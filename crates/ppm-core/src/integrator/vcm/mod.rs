@@ -201,15 +201,16 @@ impl VcmRenderer {
         estimate
     }
 
-    /// The merge radius of the next iteration, and a per-pixel rule's pilot pass if it is due.
-    fn radius(&mut self, scene: &Scene, counters: &mut RayCounters) -> f32 {
+    /// The merge radius of the next iteration, and a per-pixel rule's pilot pass if it is due;
+    /// `None` if `stop` said yes during the pilot pass.
+    fn radius(&mut self, scene: &Scene, counters: &mut RayCounters, stop: Stop) -> Option<f32> {
         let s = &self.settings;
         if s.radius.per_pixel() && self.auto_radius.is_none() {
-            if let Some(radii) = initial_pixel_radii(scene, s, counters) {
+            if let Some(radii) = initial_pixel_radii(scene, s, counters, stop)? {
                 self.auto_radius = Some(quantile(&radii, 0.5));
             }
         }
-        self.schedule.radius() * self.auto_radius.unwrap_or(1.0)
+        Some(self.schedule.radius() * self.auto_radius.unwrap_or(1.0))
     }
 
     /// The light pass: every light subpath of `iteration`, in parallel, collected in path
@@ -337,7 +338,7 @@ impl Integrator for VcmRenderer {
         let mut clock = Stopwatch::start();
         let mut pilot = RayCounters::default();
         let radius = if merging {
-            self.radius(scene, &mut pilot)
+            self.radius(scene, &mut pilot, stop)?
         } else {
             0.0
         };
