@@ -57,6 +57,10 @@ pub fn check(scene: &Scene, settings: &RenderSettings) -> Result<()> {
             "--photons {} (light paths per iteration; or render.photons in the scene)",
             settings.photons
         ),
+        Some(MemoryPart::Pilot) => {
+            "the pilot photon map of the default radius (--radius with a number, or footprint)"
+                .to_string()
+        }
         _ => format!("the resolution {w}x{h} (--width/--height, or the scene's resolution)"),
     };
     bail!(
@@ -86,6 +90,7 @@ fn part_name(part: MemoryPart) -> &'static str {
     match part {
         MemoryPart::Image => "image buffers",
         MemoryPart::Photons => "photon buffer and grid",
+        MemoryPart::Pilot => "the photons radius's pilot photon map",
     }
 }
 

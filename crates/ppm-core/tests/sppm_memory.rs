@@ -2,6 +2,7 @@
 //! photons per iteration differs by less than 10%. A test binary of its own, because it
 //! counts every allocation of the process with a global allocator.
 
+use ppm_core::integrator::MemoryPart;
 use ppm_core::prelude::*;
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -82,9 +83,21 @@ fn scene() -> Scene {
 
 /// Peak heap bytes (above what was live before) of creating a render and running one
 /// iteration with `photons` light paths, and the render state's own count of its bytes.
+/// A world radius: the default radius's pilot photon map has a fixed size of its own.
 fn peak_bytes(scene: &Scene, algorithm: Algorithm, photons: u32) -> (usize, usize) {
+    peak_bytes_with(scene, algorithm, photons, Radius::World(0.05))
+}
+
+/// [`peak_bytes`] with the initial radius `radius`.
+fn peak_bytes_with(
+    scene: &Scene,
+    algorithm: Algorithm,
+    photons: u32,
+    radius: Radius,
+) -> (usize, usize) {
     let settings = RenderSettings {
         photons,
+        radius,
         max_depth: 2, // short light paths: the test is about storage, not transport
         ..RenderSettings::for_algorithm(scene, algorithm)
     };
@@ -119,4 +132,32 @@ fn sppm_memory_does_not_grow_with_the_photons() {
     let (ppm6, _) = peak_bytes(&scene, Algorithm::Ppm, 100_000);
     let (ppm7, _) = peak_bytes(&scene, Algorithm::Ppm, 1_000_000);
     assert!(ppm7 as f64 > 5.0 * ppm6 as f64, "ppm: {ppm6} vs {ppm7}");
+}
+
+/// The memory estimate's pilot part covers what the `photons` radius's pilot allocates beyond
+/// a world radius's render, without exceeding it many times over (vcm's pilot is the same
+/// code; its light paths do not follow `photons`, which `peak_bytes_with` checks).
+#[test]
+fn the_pilot_estimate_covers_the_pilot_photon_map() {
+    let scene = scene();
+    for algorithm in [Algorithm::Ppm, Algorithm::Sppm] {
+        let (world, _) = peak_bytes_with(&scene, algorithm, 10_000, Radius::World(0.05));
+        let (photons, _) = peak_bytes_with(&scene, algorithm, 10_000, Radius::Photons);
+        let settings = RenderSettings {
+            photons: 10_000,
+            radius: Radius::Photons,
+            ..RenderSettings::for_algorithm(&scene, algorithm)
+        };
+        let pilot: u64 = Renderer::memory_estimate(&scene, &settings)
+            .items
+            .iter()
+            .filter(|i| i.part == MemoryPart::Pilot)
+            .map(|i| i.bytes)
+            .sum();
+        let extra = photons.saturating_sub(world) as u64;
+        assert!(
+            extra <= pilot && extra > pilot / 8,
+            "{algorithm:?}: the pilot allocates {extra} bytes, estimated {pilot}"
+        );
+    }
 }

@@ -25,6 +25,9 @@ pub enum MemoryPart {
     Image,
     /// Photon buffer and hash grid: grows with the light paths per iteration.
     Photons,
+    /// The `photons` radius's pilot photon map, a fixed size, held during the first
+    /// iteration only; a world radius or `footprint` needs none.
+    Pilot,
 }
 
 /// Bytes of one part of a render's memory.

@@ -41,8 +41,8 @@ use super::camera_walk::RayCounters;
 use super::footprint::{pilot_points, PilotPoint};
 use super::runner::Poll;
 use super::{
-    gather_limit, trace_light_path, DirectMode, PhotonCounters, Radius, RenderSettings, Setting,
-    Stop, DEFAULT_PHOTONS, PHOTONS_PER_PATH,
+    gather_limit, trace_light_path, DirectMode, MemoryEstimate, MemoryPart, PhotonCounters, Radius,
+    RenderSettings, Setting, Stop, BYTES_PER_PHOTON, DEFAULT_PHOTONS, PHOTONS_PER_PATH,
 };
 use crate::photon::{HashGrid, Photon, PhotonBuffer};
 use crate::scene::Scene;
@@ -231,6 +231,30 @@ fn pixel_distances(
             })
         })
         .collect()
+}
+
+/// Adds the pilot's memory to `estimate` under the `photons` rule (nothing under the others:
+/// the footprint pilot's points are a few bytes per pixel): the pilot photon map, as a photon
+/// pass of [`PILOT_LIGHT_PATHS`] paths, and per pixel its pilot point and distance. They live
+/// beside the render's own buffers during the first iteration's pilot, so the two add.
+pub fn add_pilot_memory(
+    estimate: &mut MemoryEstimate,
+    width: u32,
+    height: u32,
+    settings: &RenderSettings,
+) {
+    if settings.radius != Radius::Photons {
+        return;
+    }
+    let pixels = width as u64 * height as u64;
+    let per_pixel = (std::mem::size_of::<Option<PilotPoint>>()
+        + std::mem::size_of::<Option<f32>>()
+        + std::mem::size_of::<f32>()) as u64;
+    let photons = PILOT_LIGHT_PATHS as u64 * PHOTONS_PER_PATH as u64 * BYTES_PER_PHOTON;
+    estimate.add(
+        MemoryPart::Pilot,
+        photons.saturating_add(pixels.saturating_mul(per_pixel)),
+    );
 }
 
 /// The initial radius r_1(p) of every pixel (row-major) for [`super::Radius::Photons`]: the

@@ -8,7 +8,7 @@
 //! not per path); the kernels inside each integrator stay statically dispatched.
 
 use super::{
-    Algorithm, IterationStats, MemoryEstimate, RenderSettings, RenderStart, Snapshot, Stop,
+    Algorithm, IterationStats, MemoryEstimate, RenderSettings, RenderStart, Setting, Snapshot, Stop,
 };
 use super::{
     BpmRenderer, BptRenderer, LtRenderer, PathTracer, PpmRenderer, SppmRenderer, VcmRenderer,
@@ -225,9 +225,13 @@ impl Algorithm {
         settings: &RenderSettings,
     ) -> MemoryEstimate {
         let settings = settings.normalised();
-        for_each_integrator!(with_integrator!(self, T, _wrap => {
+        let mut estimate = for_each_integrator!(with_integrator!(self, T, _wrap => {
             T::memory_estimate(width, height, &settings)
-        }))
+        }));
+        if self.reads(Setting::Radius) {
+            super::radius_photons::add_pilot_memory(&mut estimate, width, height, &settings);
+        }
+        estimate
     }
 
     /// [`Integrator::settings_words`] of its integrator.
