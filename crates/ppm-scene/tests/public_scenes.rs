@@ -28,11 +28,8 @@ use ppm_core::film::Image;
 use ppm_core::integrator::{Algorithm, RenderSettings, Renderer};
 use ppm_scene::load_scene_builder_with_defines;
 use ppm_scene::radiance_map::read_rgb;
+use ppm_test_support::rel_mse::{mean_and_variance, rel_mse};
 use std::path::{Path, PathBuf};
-
-/// The epsilon of the relative MSE's denominator (as in the denoising literature: it keeps
-/// black pixels from dominating).
-const REL_MSE_EPSILON: f32 = 0.01;
 
 fn data() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/public")
@@ -129,24 +126,6 @@ fn render(scene: &Public, seeds: u64, iterations: u32) -> Vec<Image> {
         .collect()
 }
 
-/// Per pixel, the mean of `images` and the variance of that mean.
-fn mean_and_variance(images: &[Image]) -> (Vec<Vec3>, Vec<Vec3>) {
-    let n = images.len() as f32;
-    let pixels = images[0].pixels.len();
-    (0..pixels)
-        .map(|i| {
-            let mean = images.iter().map(|im| im.pixels[i]).sum::<Vec3>() / n;
-            let var = images
-                .iter()
-                .map(|im| (im.pixels[i] - mean) * (im.pixels[i] - mean))
-                .sum::<Vec3>()
-                / (n - 1.0)
-                / n;
-            (mean, var)
-        })
-        .unzip()
-}
-
 /// Renders `scene` and checks its image mean and relative MSE against Mitsuba's; returns the
 /// relative difference of the mean and the relative MSE over its noise-only expectation.
 fn check(scene: &Public, iterations: u32) -> (Vec3, f32) {
@@ -178,23 +157,11 @@ fn check(scene: &Public, iterations: u32) -> (Vec3, f32) {
     let relative = diff / m;
 
     // The relative MSE against what noise alone gives.
-    let mut observed = 0.0f64;
-    let mut expected = 0.0f64;
-    for i in 0..ppm.len() {
-        for c in 0..3 {
-            let (p, r) = (ppm[i][c], reference[i][c]);
-            let denominator = r * r + REL_MSE_EPSILON;
-            observed += ((p - r) * (p - r) / denominator) as f64;
-            expected += ((ppm_var[i][c] + reference_var[i][c]) / denominator) as f64;
-        }
-    }
-    let ratio = (observed / expected) as f32;
-    let samples = 3.0 * ppm.len() as f64;
+    let e = rel_mse(&ppm, &ppm_var, &reference, &reference_var);
+    let ratio = e.ratio() as f32;
     eprintln!(
         "{}: ppm {mean} ± {se}, Mitsuba {m} ± {se_m}, relative {relative}; relMSE {:.3e}, noise alone {:.3e}, ratio {ratio:.3}",
-        scene.name,
-        observed / samples,
-        expected / samples
+        scene.name, e.observed, e.noise
     );
     assert!(
         diff.abs().cmple(bound).all(),
@@ -205,8 +172,8 @@ fn check(scene: &Public, iterations: u32) -> (Vec3, f32) {
         ratio <= 1.5,
         "{}: relative MSE {:.3e} is {ratio:.2} times what noise gives ({:.3e})",
         scene.name,
-        observed / samples,
-        expected / samples
+        e.observed,
+        e.noise
     );
     (relative, ratio)
 }
