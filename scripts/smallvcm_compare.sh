@@ -140,8 +140,9 @@ for size in $sizes; do
     done
     for alg in $ppm_algs; do
       extra=()
-      # ppm's photon mappers choose their own radius; vcm keeps SmallVCM's.
-      if [ "$alg" = sppm ] || [ "$alg" = ppm ]; then extra=(--radius auto); fi
+      # ppm's photon mappers choose their own radius (the default rule, which the scene file's
+      # radius would override); vcm keeps SmallVCM's.
+      if [ "$alg" = sppm ] || [ "$alg" = ppm ]; then extra=(--radius photons); fi
       ppmr "$size" "$alg" $((1000 + r)) "$out/time_ppm_${size}_${alg}_r$r" \
         --time-limit "$seconds" "${extra[@]}"
     done
