@@ -404,3 +404,22 @@ fn water_glass_every_algorithm_agrees_with_pt() {
 fn textured_floor_every_algorithm_agrees_with_pt() {
     all_algorithms_agree_with_pt("textured_floor", false);
 }
+
+/// Merging at a rough glass plane with the light under it: every light vertex the camera's
+/// vertex on the plane can merge with arrives from the plane's far side, so `bpm` (merging
+/// alone) is black if merging weighs light vertices one-sidedly, as photon mapping does on
+/// opaque surfaces. Its mean must be the path tracer's within 5 % or 4 combined standard
+/// errors (the bound of a test against a missing technique, not of the kernel's bias).
+#[test]
+fn bpm_merges_light_arriving_through_rough_glass() {
+    let scene = "light_under_rough_glass";
+    let (p, se_p) = render(load(scene, &[]), Algorithm::Path, 8, 256);
+    let (a, se_a) = render_with(load(scene, &[]), Algorithm::Bpm, 8, 256, Some(65_536));
+    let bound = (0.05 * p).max(4.0 * (se_a * se_a + se_p * se_p).powf(0.5));
+    eprintln!("{scene}: bpm {a} ± {se_a} vs pt {p} ± {se_p}, bound {bound}");
+    assert!(p.min_element() > 0.0, "{scene}: pt sees no light: {p}");
+    assert!(
+        (a - p).abs().cmple(bound).all(),
+        "{scene}: bpm {a} vs pt {p}"
+    );
+}
