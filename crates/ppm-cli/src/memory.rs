@@ -3,6 +3,7 @@
 //! available, and a render that does not fit ends with an error naming the setting to lower,
 //! instead of "memory allocation failed" and SIGABRT half-way.
 
+use crate::process_limits::gib;
 use anyhow::{bail, Context, Result};
 use ppm_core::integrator::{MemoryPart, RenderSettings, Renderer, Snapshot};
 use ppm_core::scene::Scene;
@@ -92,10 +93,6 @@ fn part_name(part: MemoryPart) -> &'static str {
         MemoryPart::Photons => "photon buffer and grid",
         MemoryPart::Pilot => "the photons radius's pilot photon map",
     }
-}
-
-fn gib(bytes: u64) -> String {
-    format!("{:.2} GiB", bytes as f64 / (1u64 << 30) as f64)
 }
 
 /// Virtual memory the render maps after the check besides its buffers, which RLIMIT_AS

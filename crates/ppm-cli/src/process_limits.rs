@@ -58,12 +58,13 @@ fn left_of(name: &str, limit: u64, used: u64) -> LeftOf {
     }
 }
 
-fn gib(bytes: u64) -> String {
+/// `bytes` in GiB with two decimals, as the memory messages print it.
+pub(crate) fn gib(bytes: u64) -> String {
     format!("{:.2} GiB", bytes as f64 / (1u64 << 30) as f64)
 }
 
 /// The `<key>  1234 kB` line of /proc/self/status, in bytes.
-fn status_bytes(status: &str, key: &str) -> Option<u64> {
+pub(crate) fn status_bytes(status: &str, key: &str) -> Option<u64> {
     let line = status.lines().find(|l| l.starts_with(key))?;
     let kb: u64 = line[key.len()..]
         .trim()

@@ -1,6 +1,7 @@
 //! What the user sees while and after rendering: a progress bar on stderr and a one-line
 //! summary with speeds and memory.
 
+use crate::process_limits::status_bytes;
 use crate::render_loop::{LoopTotals, StopRule};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
@@ -73,24 +74,12 @@ pub fn peak_rss_bytes() -> Option<u64> {
 /// The memory the process holds now (VmRSS), on Linux; `None` elsewhere.
 pub fn rss_bytes() -> Option<u64> {
     let status = std::fs::read_to_string("/proc/self/status").ok()?;
-    status_kb(&status, "VmRSS:")
+    status_bytes(&status, "VmRSS:")
 }
 
 /// The `VmHWM:  1234 kB` line of /proc/self/status, in bytes.
 fn parse_vm_hwm(status: &str) -> Option<u64> {
-    status_kb(status, "VmHWM:")
-}
-
-/// The `<key>  1234 kB` line of /proc/self/status, in bytes.
-fn status_kb(status: &str, key: &str) -> Option<u64> {
-    let line = status.lines().find(|l| l.starts_with(key))?;
-    let kb: u64 = line[key.len()..]
-        .trim()
-        .trim_end_matches("kB")
-        .trim()
-        .parse()
-        .ok()?;
-    Some(kb * 1024)
+    status_bytes(status, "VmHWM:")
 }
 
 /// What the summary reports about a finished render.
