@@ -38,7 +38,7 @@ def main():
     out = 0.5 * (a + b)
     noise = np.mean((a - b) ** 2 / (out**2 + 0.01)) / 4.0
     mi.Bitmap(out.astype(np.float32)).write(sys.argv[3])
-    print(f"{noise:.6f}")
+    print(f"{noise:.4g}")
 
 
 if __name__ == "__main__":

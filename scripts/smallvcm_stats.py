@@ -46,8 +46,8 @@ def main():
     stderr = relmse.std(ddof=1) / np.sqrt(k) if k > 1 else float("nan")
     relvar = (images.var(axis=0, ddof=1) / denominator).mean() if k > 1 else float("nan")
     print(
-        f"{k}\t{reference.mean():.5f}\t{images.mean():.5f}\t{relmse.mean():.5f}\t{stderr:.5f}"
-        f"\t{relvar:.5f}"
+        f"{k}\t{reference.mean():.5f}\t{images.mean():.5f}\t{relmse.mean():.4g}\t{stderr:.4g}"
+        f"\t{relvar:.4g}"
     )
 
 
