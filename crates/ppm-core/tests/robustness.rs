@@ -50,11 +50,10 @@ fn max_depth_is_bounded_in_a_mirror_box() {
         // Photon mapping adds its light paths, and with the default `photons` radius the
         // first iteration's pilot: one path per pixel, bounded like an eye path, and the
         // pilot photon map's light paths, bounded like light paths. In this all-mirror box no
-        // pixel finds a diffuse point, so the rule falls back to `footprint`, whose pilot
-        // traces the pixels' paths once more.
+        // pixel finds a diffuse point, so the rule falls back to `footprint` at the same pilot
+        // points, tracing nothing more.
         // VCM traces one light path per pixel, and the same pilot.
-        let pilot =
-            2 * pixels * (MAX_DEPTH as u64 + 1) + PILOT_LIGHT_PATHS as u64 * MAX_DEPTH as u64;
+        let pilot = pixels * (MAX_DEPTH as u64 + 1) + PILOT_LIGHT_PATHS as u64 * MAX_DEPTH as u64;
         let bound = pixels * (MAX_DEPTH as u64 + 1)
             + match algorithm {
                 Algorithm::Ppm => 64 * MAX_DEPTH as u64 + pilot,

@@ -123,7 +123,13 @@ pub fn pilot_radii(
     rr_depth: u32,
     counters: &mut RayCounters,
 ) -> Vec<f32> {
-    let mut radii: Vec<f32> = pilot_points(scene, seed, max_depth, rr_depth, counters)
+    let points = pilot_points(scene, seed, max_depth, rr_depth, counters);
+    footprint_radii(scene, &points)
+}
+
+/// [`pilot_radii`] of pilot points already traced (one per pixel, row-major).
+pub(crate) fn footprint_radii(scene: &Scene, points: &[Option<PilotPoint>]) -> Vec<f32> {
+    let mut radii: Vec<f32> = points
         .iter()
         .map(|p| p.map_or(f32::NAN, |p| footprint_radius(&scene.camera, p.length)))
         .collect();

@@ -38,7 +38,7 @@
 //! distances, whatever order the grid hands them out in).
 
 use super::camera_walk::RayCounters;
-use super::footprint::{pilot_points, PilotPoint};
+use super::footprint::{footprint_radii, pilot_points, PilotPoint};
 use super::runner::Poll;
 use super::{
     gather_limit, trace_light_path, DirectMode, MemoryEstimate, MemoryPart, PhotonCounters, Radius,
@@ -260,8 +260,8 @@ pub fn add_pilot_memory(
 /// The initial radius r_1(p) of every pixel (row-major) for [`super::Radius::Photons`]: the
 /// rule of this module, with k = [`NEAREST_PHOTONS`]. Pixels without a pilot point take the
 /// median of the found radii, pixels with fewer than k photons within the cap the cap; if no
-/// pixel finds k photons (a scene that stores none), the footprint rule stands in
-/// ([`super::pilot_radii`]).
+/// pixel finds k photons (a scene that stores none), the footprint rule at the same pilot
+/// points stands in ([`super::pilot_radii`], without tracing them again).
 pub fn photon_radii(
     scene: &Scene,
     settings: &RenderSettings,
@@ -302,13 +302,7 @@ fn photon_radii_until(
         .filter(|d| d.is_finite() && *d > 0.0)
         .collect();
     if found.is_empty() {
-        return Some(super::pilot_radii(
-            scene,
-            s.seed,
-            s.max_depth,
-            s.rr_depth,
-            counters,
-        ));
+        return Some(footprint_radii(scene, &points));
     }
     let mid = median(&found);
     let cap = CAP * mid;
