@@ -6,62 +6,36 @@
 
 use anyhow::Result;
 use ppm_core::pixel_bounds::PixelBounds;
+use ppm_scene::crop::{fraction_window, window};
 
 /// The pixels to render for a `width` x `height` image. A crop window [x0, x1) x [y0, y1) in
-/// fractions covers pixels ceil(x0 w) .. ceil(x1 w) by ceil(y0 h) .. ceil(y1 h), as in pbrt-v4.
+/// fractions covers pixels ceil(x0 w) .. ceil(x1 w) by ceil(y0 h) .. ceil(y1 h), as in pbrt-v4;
+/// the rules are the scene files' (`ppm_scene::crop`), the messages name the flag.
 pub fn pixel_bounds(
     width: u32,
     height: u32,
     crop_window: Option<&[f64]>,
     pixel_bounds: Option<&[u32]>,
 ) -> Result<PixelBounds> {
-    let (x0, x1, y0, y1) = match (crop_window, pixel_bounds) {
+    let checked = match (crop_window, pixel_bounds) {
         (None, None) => return Ok(PixelBounds::full(width, height)),
         (Some(c), _) => {
             let &[x0, x1, y0, y1] = c else {
                 usage_bail!("--cropwindow takes four numbers: x0 x1 y0 y1");
             };
-            if !(0.0..=1.0).contains(&x0)
-                || !(0.0..=1.0).contains(&x1)
-                || !(0.0..=1.0).contains(&y0)
-                || !(0.0..=1.0).contains(&y1)
-                || x0 >= x1
-                || y0 >= y1
-            {
-                usage_bail!(
-                    "--cropwindow {x0} {x1} {y0} {y1}: expected fractions of the image with \
-                     0 <= x0 < x1 <= 1 and 0 <= y0 < y1 <= 1"
-                );
-            }
-            let px = |f: f64, n: u32| ((f * n as f64).ceil() as u32).min(n);
-            let b = (px(x0, width), px(x1, width), px(y0, height), px(y1, height));
-            if b.0 >= b.1 || b.2 >= b.3 {
-                usage_bail!(
-                    "--cropwindow {x0} {x1} {y0} {y1} covers no pixel of the {width}x{height} image"
-                );
-            }
-            b
+            fraction_window([x0, x1, y0, y1], (width, height)).map_err(|e| ("--cropwindow", e))
         }
         (None, Some(p)) => {
             let &[x0, x1, y0, y1] = p else {
                 usage_bail!("--pixelbounds takes four numbers: x0 x1 y0 y1");
             };
-            if x0 >= x1 || y0 >= y1 || x1 > width || y1 > height {
-                usage_bail!(
-                    "--pixelbounds {x0} {x1} {y0} {y1}: expected 0 <= x0 < x1 <= {width} and \
-                     0 <= y0 < y1 <= {height} (the image is {width}x{height})"
-                );
-            }
-            (x0, x1, y0, y1)
+            window([x0, x1, y0, y1], (width, height)).map_err(|e| ("--pixelbounds", e))
         }
     };
-    Ok(PixelBounds {
-        x0,
-        x1,
-        y0,
-        y1,
-        full_width: width,
-    })
+    match checked {
+        Ok(bounds) => Ok(bounds),
+        Err((flag, e)) => usage_bail!("{flag} {e}"),
+    }
 }
 
 #[cfg(test)]

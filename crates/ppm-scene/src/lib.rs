@@ -24,7 +24,7 @@ mod build;
 mod closed_glass;
 mod content_hash;
 pub mod convert;
-mod crop;
+pub mod crop;
 mod environment;
 mod error;
 mod file_cache;

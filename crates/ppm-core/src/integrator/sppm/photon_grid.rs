@@ -14,6 +14,13 @@
 //! two cells of a box along x are neighbours in memory. The visible points are gathered in
 //! pixel order, neighbouring pixels see neighbouring points and read the same cells: the
 //! grid's reads stay in cache.
+//!
+//! Why not ppm's [`crate::photon::HashGrid`]: that grid stores a whole iteration's photons for
+//! gathers of one radius, sorts each bucket into a canonical order (its f32 sums must not
+//! depend on thread scheduling) and keeps SIMD columns for its kernel sum. Here the photons
+//! are a batch, the radii are per point and shrink apart, the sums are fixed-point (order-free,
+//! so no sort is needed), and a photon outside the box of all discs is dropped at the build:
+//! a box cull and quantile-sized cells instead of a sort and columns.
 
 use super::photon::SppmPhoton;
 use super::visible_point::SplatPoint;
