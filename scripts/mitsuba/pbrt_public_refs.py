@@ -53,6 +53,8 @@ import tempfile
 import mitsuba as mi
 import numpy as np
 
+import public_refs  # the shared recording of references (this folder)
+
 mi.set_variant("scalar_rgb")
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -66,7 +68,6 @@ SCENES = {
     "bitterli-veach-mis": ("bitterli-pbrt/veach-mis/scene-v4.pbrt", 48, 27),
 }
 SPP = {"bitterli-cornell-box": 1024, "bitterli-veach-mis": 4096}
-HEADER = "scene,spp,seeds,mean_r,mean_g,mean_b,se_r,se_g,se_b"
 TOKEN = re.compile(r'#[^\n]*|"[^"]*"|\[|\]|[^\s\[\]"]+')
 
 
@@ -223,11 +224,6 @@ def translate_shape(kind, params, ctm, tmp, n):
     raise ValueError(f"Shape {kind} is not translated")
 
 
-def write_exr(path, image):
-    mi.Bitmap(np.ascontiguousarray(image, dtype=np.float32),
-              pixel_format=mi.Bitmap.PixelFormat.RGB).write(path)
-
-
 def main():
     args = [a for a in sys.argv[1:] if not a.startswith("--")]
     default_spp = int(args[0]) if len(args) > 0 else None
@@ -235,31 +231,15 @@ def main():
     only = args[2].split(",") if len(args) > 2 else list(SCENES)
     os.makedirs(OUT, exist_ok=True)
     csv = os.path.join(OUT, "pbrt_references.csv")
-    rows = {}
-    if os.path.exists(csv):
-        for line in open(csv).read().splitlines()[1:]:
-            rows[line.split(",")[0]] = line
+    rows = public_refs.read_rows(csv)
     for name in only:
         file, width, height = SCENES[name]
         spp = default_spp or SPP[name]
         with tempfile.TemporaryDirectory() as tmp:
             scene = mi.load_dict(translate(os.path.join(DATA, file), width, height, tmp))
-            images = np.array([
-                np.array(mi.render(scene, spp=spp, seed=seed))[:, :, :3]
-                for seed in range(seeds)
-            ])
-        mean_image = images.mean(axis=0)
-        var_image = images.var(axis=0, ddof=1) / seeds
-        write_exr(os.path.join(OUT, name + ".exr"), mean_image)
-        write_exr(os.path.join(OUT, name + "_var.exr"), var_image)
-        means = images.reshape(seeds, -1, 3).mean(axis=1)
-        mean = means.mean(axis=0)
-        se = means.std(axis=0, ddof=1) / np.sqrt(seeds)
-        row = [name, str(spp), str(seeds)] + ["%.6g" % v for v in mean] + ["%.3g" % v for v in se]
-        rows[name] = ",".join(row)
-        print(rows[name], flush=True)
-    with open(csv, "w") as f:
-        f.write("\n".join([HEADER] + [rows[n] for n in SCENES if n in rows]) + "\n")
+            public_refs.record(name, spp, seeds,
+                               lambda seed: np.array(mi.render(scene, spp=spp, seed=seed)), rows)
+    public_refs.write_rows(csv, rows, SCENES)
 
 
 if __name__ == "__main__":

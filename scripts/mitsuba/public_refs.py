@@ -85,6 +85,36 @@ def write_exr(path, image):
               pixel_format=mi.Bitmap.PixelFormat.RGB).write(path)
 
 
+def read_rows(csv):
+    """The rows of an existing references CSV by scene name (none if it does not exist)."""
+    rows = {}
+    if os.path.exists(csv):
+        for line in open(csv).read().splitlines()[1:]:
+            rows[line.split(",")[0]] = line
+    return rows
+
+
+def record(name, spp, seeds, render, rows):
+    """Renders `seeds` images with render(seed), writes OUT/<name>.exr (their mean) and
+    OUT/<name>_var.exr (the variance of that mean), and puts the scene's CSV row (image means
+    per channel and their standard errors over the seeds) in `rows`."""
+    images = np.array([render(seed)[:, :, :3] for seed in range(seeds)])
+    write_exr(os.path.join(OUT, name + ".exr"), images.mean(axis=0))
+    write_exr(os.path.join(OUT, name + "_var.exr"), images.var(axis=0, ddof=1) / seeds)
+    means = images.reshape(seeds, -1, 3).mean(axis=1)
+    mean = means.mean(axis=0)
+    se = means.std(axis=0, ddof=1) / np.sqrt(seeds)
+    row = [name, str(spp), str(seeds)] + ["%.6g" % v for v in mean] + ["%.3g" % v for v in se]
+    rows[name] = ",".join(row)
+    print(rows[name], flush=True)
+
+
+def write_rows(csv, rows, order):
+    """Writes `rows` to `csv` in the order of the names in `order`."""
+    with open(csv, "w") as f:
+        f.write("\n".join([HEADER] + [rows[n] for n in order if n in rows]) + "\n")
+
+
 def main():
     args = [a for a in sys.argv[1:] if not a.startswith("--")]
     default_spp = int(args[0]) if len(args) > 0 else None
@@ -92,10 +122,7 @@ def main():
     only = args[2].split(",") if len(args) > 2 else list(SCENES)
     os.makedirs(OUT, exist_ok=True)
     csv = os.path.join(OUT, "references.csv")
-    rows = {}
-    if os.path.exists(csv):
-        for line in open(csv).read().splitlines()[1:]:
-            rows[line.split(",")[0]] = line
+    rows = read_rows(csv)
     for name in only:
         folder, file, defines = SCENES[name]
         spp = default_spp or SPP.get(name, 256)
@@ -103,22 +130,10 @@ def main():
             copy = box_filtered_copy(os.path.join(DATA, folder), tmp)
             scene = mi.load_file(os.path.join(copy, file), **defines)
             integrator = scene.integrator() or mi.load_dict({"type": "path"})
-            images = np.array([
-                np.array(mi.render(scene, integrator=integrator, spp=spp, seed=seed))[:, :, :3]
-                for seed in range(seeds)
-            ])
-        mean_image = images.mean(axis=0)
-        var_image = images.var(axis=0, ddof=1) / seeds
-        write_exr(os.path.join(OUT, name + ".exr"), mean_image)
-        write_exr(os.path.join(OUT, name + "_var.exr"), var_image)
-        means = images.reshape(seeds, -1, 3).mean(axis=1)
-        mean = means.mean(axis=0)
-        se = means.std(axis=0, ddof=1) / np.sqrt(seeds)
-        row = [name, str(spp), str(seeds)] + ["%.6g" % v for v in mean] + ["%.3g" % v for v in se]
-        rows[name] = ",".join(row)
-        print(rows[name], flush=True)
-    with open(csv, "w") as f:
-        f.write("\n".join([HEADER] + [rows[n] for n in SCENES if n in rows]) + "\n")
+            record(name, spp, seeds,
+                   lambda seed: np.array(mi.render(scene, integrator=integrator, spp=spp,
+                                                   seed=seed)), rows)
+    write_rows(csv, rows, SCENES)
 
 
 if __name__ == "__main__":
