@@ -14,6 +14,7 @@ use crate::sampling::Rng;
 use crate::scene::Scene;
 use glam::{Vec2, Vec3};
 use rayon::prelude::*;
+use std::f32::consts::FRAC_1_PI;
 
 /// Pixel widths in an auto radius. Much less than a pixel would gather few photons (variance);
 /// much more blurs shadows and caustics visibly (bias). Two was chosen by equal-time error
@@ -50,6 +51,9 @@ pub struct PilotPoint {
     pub position: Vec3,
     /// Bounces before the point (the walk's depth there: 0 when the camera sees it directly).
     pub depth: u32,
+    /// What a photon density estimate there is multiplied by to become the pixel's radiance:
+    /// the path's throughput times the diffuse part's albedo / π (the mean of the channels).
+    pub weight: f32,
 }
 
 /// One pilot path per pixel (row-major) through the pixel's centre: the path follows specular
@@ -88,11 +92,13 @@ pub fn pilot_points(
                     &mut rng,
                     &mut row_counters,
                     |w, v, _| {
-                        if v.bsdf.diffuse_part().is_some() {
+                        if let Some(diffuse) = v.bsdf.diffuse_part() {
+                            let weight = w.path.throughput * diffuse.albedo * FRAC_1_PI;
                             *out = Some(PilotPoint {
                                 length: w.length,
                                 position: v.hit.p,
                                 depth: v.depth,
+                                weight: (weight.x + weight.y + weight.z) / 3.0,
                             });
                             return Next::Stop;
                         }

@@ -16,6 +16,7 @@ mod photon_sink;
 mod ppm;
 mod radius;
 mod radius_photons;
+mod radius_scale;
 mod renderer;
 mod runner;
 mod settings;
@@ -46,8 +47,12 @@ pub use photon_sink::PhotonSink;
 pub use ppm::{density_estimate, gather_limit, GatherContext, PpmRenderer};
 pub use radius::{smallest_radius, RadiusSchedule};
 pub use radius_photons::{
-    initial_pixel_radii, nearest_photon_distance, photon_radii, photon_radii_with, CAP,
-    NEAREST_PHOTONS, PILOT_LIGHT_PATHS, PILOT_PHOTON_STREAM,
+    initial_pixel_radii, nearest_photon_distance, nearest_photon_radii, photon_radii,
+    photon_radii_with, CAP, NEAREST_PHOTONS, PILOT_LIGHT_PATHS, PILOT_PHOTON_STREAM,
+};
+pub use radius_scale::{
+    bias_variance_scale, gather_share, pixel_moments, schedule_constants, PixelMoments,
+    BIAS_ORDERS, MAX_SCALE, MIN_SCALE, VISIT_COST,
 };
 pub use renderer::{Aov, Features, Integrator, Renderer};
 pub use runner::Stop;

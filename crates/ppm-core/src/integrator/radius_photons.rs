@@ -1,5 +1,6 @@
 //! The default initial radius of photon mapping (`photons`): each pixel's distance to its
-//! [`NEAREST_PHOTONS`]-th nearest photon in a pilot photon map of a fixed size.
+//! [`NEAREST_PHOTONS`]-th nearest photon in a pilot photon map of a fixed size, times one
+//! scale for the whole image that balances bias against variance ([`super::radius_scale`]).
 //!
 //! The radius should be free of the scene's units, its extent and the image's resolution.
 //! A pixel footprint (`auto`, [`super::footprint`]) is free of the first two but not of the
@@ -12,33 +13,41 @@
 //! The rule, for pixel p with pilot point x_p (the first diffuse vertex of the path through
 //! its centre, [`pilot_points`]):
 //!
-//!   r_1(p) = min(d_k(x_p), CAP * median_q d_k(x_q)),
+//!   r_1(p) = m min(d_k(x_p), CAP * median_q d_k(x_q)),
 //!
 //! where d_k(x) is the distance from x to the k-th nearest photon (k = [`NEAREST_PHOTONS`])
 //! among those a gather at x would count (bounce limit of [`gather_limit`]), in a pilot map of
 //! [`PILOT_LIGHT_PATHS`] light paths traced with the render's depth and direct-light mode
 //! (every bounce for `vcm`, which merges them all) on a random stream of their own. Pixels whose pilot finds no diffuse surface, or fewer than k
-//! photons within the cap, take the median (no surface) or the cap (too few photons).
+//! photons within the cap, take the median (no surface) or the cap (too few photons). The
+//! scale m comes from the same pilot: the squared bias and the variance of the estimate at
+//! d_k pooled over a sample of pixels, the eye pass's own noise there, and the cost of a
+//! larger disc, so that the error at equal time is least ([`super::radius_scale`]).
 //!
 //! - Units and extent: scaling the scene scales every distance, photon positions with it,
 //!   so d_k scales and the image does not change; a far-reaching floor changes the photon
 //!   density only where the floor is.
 //! - Resolution: the pilot map's size is fixed, not the render's photons per iteration
 //!   (`sppm` and `vcm` trace one light path per pixel), and d_k is measured at points, not
-//!   over pixels, so the radius of a surface point does not depend on the image's size.
+//!   over pixels, so d_k of a surface point does not depend on the image's size. The scale
+//!   m does, through time alone: at equal time more pixels make the gathers a larger share
+//!   of an iteration, and a larger disc costs more there (and for `sppm` and `vcm` through
+//!   their light paths per iteration, which set the variance).
 //! - For a uniform photon density rho (photons per unit area) on a plane, pi d_k^2 rho is
 //!   Gamma(k, 1) distributed (the k-th point of a Poisson process), so
 //!   E[d_k^2] = k / (pi rho): the first iteration's disc holds about k photons per
 //!   [`PILOT_LIGHT_PATHS`] light paths.
 //!
 //! Like the footprint's, the pilot's random numbers are its own (seed ^ [`PILOT_PHOTON_STREAM`]
-//! for the light paths, [`super::PILOT_STREAM`] for the points), so the radii are a pure
+//! for the light paths, [`super::PILOT_STREAM`] for the points, seed ^ [`PILOT_EYE_STREAM`]
+//! for the eye-only estimates), so the radii are a pure
 //! function of the scene and the settings, fixed, not random, for every iteration's estimate,
 //! and the same at any thread count (each pixel's d_k is the k-th smallest of a set of
-//! distances, whatever order the grid hands them out in).
+//! distances, whatever order the grid hands them out in; m sums its pixels in order).
 
 use super::camera_walk::RayCounters;
 use super::footprint::{footprint_radii, pilot_points, PilotPoint};
+use super::radius_scale::{pilot_scale, scales, Pilot, PilotRays};
 use super::runner::Poll;
 use super::{
     gather_limit, trace_light_path, DirectMode, MemoryEstimate, MemoryPart, PhotonCounters, Radius,
@@ -67,6 +76,9 @@ pub const CAP: f32 = 4.0;
 
 /// Random streams of the pilot light paths, apart from the iterations' and the pilot points'.
 pub const PILOT_PHOTON_STREAM: u64 = 0x6b6e_6e5f_7068_6f74;
+
+/// Random streams of the pilot's eye-only estimates ([`super::radius_scale::EyeLight`]).
+pub const PILOT_EYE_STREAM: u64 = 0x6579_655f_6e6f_6973;
 
 /// Pilot points used to choose the grid's cell size (a stride through the found ones).
 const GRID_SAMPLE: usize = 256;
@@ -278,8 +290,35 @@ pub fn photon_radii_with(
     counters: &mut RayCounters,
 ) -> Vec<f32> {
     let never = || false;
-    photon_radii_until(scene, settings, k, counters, &Poll::new(&never))
+    photon_radii_until(
+        scene,
+        settings,
+        k,
+        Scaled::Yes,
+        counters,
+        &Poll::new(&never),
+    )
+    .expect("a pass that is never stopped finishes")
+}
+
+/// [`photon_radii_with`] without the bias-variance scale (m = 1): each pixel's capped d_k
+/// alone, for tests and measurement.
+pub fn nearest_photon_radii(
+    scene: &Scene,
+    settings: &RenderSettings,
+    k: usize,
+    counters: &mut RayCounters,
+) -> Vec<f32> {
+    let never = || false;
+    photon_radii_until(scene, settings, k, Scaled::No, counters, &Poll::new(&never))
         .expect("a pass that is never stopped finishes")
+}
+
+/// Whether the radii are multiplied by the bias-variance scale.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Scaled {
+    Yes,
+    No,
 }
 
 /// [`photon_radii_with`], abandoned (`None`) if `poll` says stop during the pilot photon pass.
@@ -287,13 +326,20 @@ fn photon_radii_until(
     scene: &Scene,
     settings: &RenderSettings,
     k: usize,
+    scaled: Scaled,
     counters: &mut RayCounters,
     poll: &Poll,
 ) -> Option<Vec<f32>> {
     let k = k.max(1);
     let s = settings;
+    let before = *counters;
     let points = pilot_points(scene, s.seed, s.max_depth, s.rr_depth, counters);
+    let after_points = *counters;
     let photons = pilot_photons(scene, settings, counters, poll)?;
+    let rays = PilotRays {
+        eye: (after_points.rays - before.rays) + (after_points.shadow_rays - before.shadow_rays),
+        light: counters.rays - after_points.rays,
+    };
     let distances = pixel_distances(scene, settings, &points, &photons, k);
     let found: Vec<f32> = distances
         .iter()
@@ -306,17 +352,28 @@ fn photon_radii_until(
     }
     let mid = median(&found);
     let cap = CAP * mid;
-    Some(
-        points
-            .iter()
-            .zip(&distances)
-            .map(|(point, d)| match (point, d) {
-                (_, Some(d)) if d.is_finite() && *d > 0.0 => d.min(cap),
-                (Some(_), _) => cap,
-                (None, _) => mid,
-            })
-            .collect(),
-    )
+    let radii: Vec<f32> = points
+        .iter()
+        .zip(&distances)
+        .map(|(point, d)| match (point, d) {
+            (_, Some(d)) if d.is_finite() && *d > 0.0 => d.min(cap),
+            (Some(_), _) => cap,
+            (None, _) => mid,
+        })
+        .collect();
+    let pilot = Pilot {
+        points: &points,
+        distances: &distances,
+        radii: &radii,
+        photons: &photons,
+        rays,
+        k,
+    };
+    if scaled == Scaled::No {
+        return Some(radii);
+    }
+    let m = pilot_scale(scene, settings, &pilot, mid, counters);
+    Some(radii.iter().map(|r| m * r).collect())
 }
 
 /// Every pixel's initial radius (row-major) under a per-pixel rule (`auto`: the footprint,
@@ -341,7 +398,19 @@ pub fn initial_pixel_radii(
         ))),
         Radius::Photons => {
             let poll = Poll::new(stop);
-            photon_radii_until(scene, settings, NEAREST_PHOTONS, counters, &poll).map(Some)
+            photon_radii_until(
+                scene,
+                settings,
+                NEAREST_PHOTONS,
+                if scales(s.algorithm) {
+                    Scaled::Yes
+                } else {
+                    Scaled::No
+                },
+                counters,
+                &poll,
+            )
+            .map(Some)
         }
     }
 }

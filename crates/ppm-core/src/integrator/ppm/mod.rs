@@ -22,6 +22,7 @@
 
 mod eye_pass;
 
+pub(crate) use eye_pass::trace_eye_path;
 pub use eye_pass::{density_estimate, gather_limit, GatherContext};
 
 use super::camera_walk::RayCounters;
@@ -38,7 +39,6 @@ use crate::film::{Film, Image};
 use crate::photon::{HashGrid, Kernel, PhotonBuffer};
 use crate::pixel_bounds::PixelBounds;
 use crate::scene::Scene;
-use eye_pass::trace_eye_path;
 use glam::Vec3;
 use rayon::prelude::*;
 use std::ops::Range;

@@ -21,7 +21,8 @@
 //! r_{i+1}^2 = r_i^2 (i + alpha) / (i + 1), [`RadiusSchedule`]), which shrinks as
 //! i^((alpha - 1) / 2) like the VCM paper's r_i = r_1 i^((alpha - 1) / 2) (sec. 5) up to a
 //! constant factor. r_1 is `--radius` in scene units, or with a per-pixel rule (`photons`,
-//! the default, or `auto`) the median of the pixels' radii ([`initial_pixel_radii`]): VCM
+//! the default, or `auto`) the median of the pixels' radii ([`initial_pixel_radii`]; for
+//! `photons` their k-nearest distances, without ppm's bias-variance scale): VCM
 //! merges at every non-delta camera vertex,
 //! not only the first, so it needs one radius for the whole grid. `--photons` is not used:
 //! the light subpaths are one per pixel, as in the paper and SmallVCM.

@@ -1,0 +1,586 @@
+//! The bias-variance scale of the `photons` radius: one factor m by which every pixel's
+//! k-nearest-photon distance d_k is multiplied, chosen from the pilot photons so that the
+//! estimated error of the whole render, bias² plus variance, is least.
+//!
+//! A fixed photon count k fixes the relative variance of each pixel's first estimate (about
+//! 1/k), not its bias, which depends on how fast the light changes across the disc. Where the
+//! light is smooth everywhere the best radius is larger than d_k, near a caustic it is d_k or
+//! smaller. Adaptive progressive photon mapping (Kaplanyan and Dachsbacher 2013) balances the
+//! two per pixel from a kernel estimate of the Laplacian of the photon density; per pixel that
+//! estimate rests on a few dozen photons and is noisier than the bias it measures, so here it
+//! is pooled over a sample of pixels into one factor, and the per-pixel shape stays d_k's.
+//!
+//! **Bias.** For a density f on a surface and a 2D kernel K_r of radius r, the kernel
+//! estimate's mean is E[Ê(r)] = f + (μ₂(r)/2) Δf + O(r⁴), μ₂ the kernel's second moment per
+//! axis (Silverman 1986, ch. 4, for multivariate kernels). For the Epanechnikov kernel of the gather
+//! ([`crate::photon::epanechnikov`]) μ₂(r) = r²/6, so the bias is b(r) = Δf r²/12, and two
+//! radii give it without Δf: E[Ê(2r) − Ê(r)] = Δf (4r² − r²)/12 = 3 b(r), so
+//!
+//!   b̂(r) = (Ê(2r) − Ê(r)) / 3 = Σ_j Φ_j (K_2r(d_j) − K_r(d_j)) / 3.
+//!
+//! That holds where the light is smooth at the scale 2r. Across an edge (a shadow's, a
+//! caustic's, a corner where two walls meet) the pixels within r of it have a bias of the
+//! order of the jump, so the image's mean squared bias grows as r, not r⁴. So the pooled
+//! squared bias B(r) is measured at two radii, d_k and 2 d_k, and its order p follows from
+//! their ratio, B(m d_k) = B(d_k) m^p with p = log₂(B(2 d_k) / B(d_k)), within [1, 4].
+//!
+//! **Variance.** The photons are (nearly) a Poisson process, so a sum Σ_j Φ_j g(x_j) has
+//! variance E[Σ_j Φ_j² g(x_j)²] (Campbell's theorem), estimated by the sum itself:
+//! v̂(r) = Σ_j Φ_j² K_r(d_j)², and var(b̂) by Σ_j Φ_j² (K_2r − K_r)²/9, so that b̂² − var(b̂)
+//! is an unbiased estimate of b². The variance at d_k is measured on the disc of 2 d_k (four
+//! times the photons) and carried back by its order, v(d_k) = 4 v(2 d_k).
+//!
+//! **Weights.** Each pixel's terms are in radiance (a kernel sum of flux times the eye path's
+//! throughput and the diffuse albedo / π, over the light paths) and divided by L², L the
+//! pixel's radiance: the eye-only light (below) plus the photons' estimate with the kernel of
+//! 2 d_k. The sums are then the image's relative error, and L rests on enough photons not to
+//! bias the ratios.
+//!
+//! **The eye pass's own noise.** What the render adds to the photons (emission, sampled
+//! direct light, glossy chains to lights) has a variance C per iteration that does not depend
+//! on the radius, but it falls only with more iterations, and a larger disc makes each
+//! iteration longer. It is measured in the pilot from [`EYE_SAMPLES`] eye-only estimates per
+//! pixel of the sample.
+//!
+//! **The render.** Iteration i gathers with radius m d_k s_i, s_i² the schedule's factor
+//! (r²ᵢ₊₁ = r²ᵢ (i + α)/(i + 1), Knaus and Zwicker 2011), and the image averages N iterations,
+//! so with M light paths per iteration (the pilot has [`PILOT_LIGHT_PATHS`]), pooled,
+//!
+//!   bias² = c_b² B(d_k) m^p,  c_b = (1/N) Σ_i s_i^(p/2),
+//!   variance = c_v V (PILOT / M) / m² + C / N,  c_v = (1/N²) Σ_i 1/s_i²,
+//!
+//! with V = Σ v(d_k)/L² and C = Σ c/L². At equal time N depends on m: an iteration costs its
+//! rays plus [`VISIT_COST`] per photon visit of its gathers, which grow as m², so
+//! N_m = N (1 + g) / (1 + g m²), g the gathers' share at m = 1 ([`gather_share`]). As
+//! functions of N the three terms go as N^((α−1)p/2), N^(−α) and N^(−1) (r_i² ∝ i^(α−1); Knaus
+//! and Zwicker 2011 balance the first two for p = 4). m is the scale of least error among [`SCALE_STEPS`] scales,
+//! log-spaced in [[`MIN_SCALE`], [`MAX_SCALE`]], the constants evaluated on the schedule at
+//! [`NOMINAL_ITERATIONS`]. Without the eye term and the cost, and at p = 4, the minimum is
+//! m⁶ = V (PILOT / M) / (κ B(d_k)), κ = 2 c_b²/c_v (7.3 at α = 2/3 over 64 iterations, 5.3
+//! over 8 and 8.1 over 4096: both terms go as N^(−2/3) there, so m hardly depends on N).
+//! Where no bias is measured (light uniform within the pilot's resolution) the best radius is
+//! unbounded and m is the largest.
+
+use super::camera_walk::RayCounters;
+use super::footprint::PilotPoint;
+use super::ppm::trace_eye_path;
+use super::radius::RadiusSchedule;
+use super::radius_photons::PILOT_EYE_STREAM;
+use super::{gather_limit, Algorithm, GatherContext, RenderSettings, Setting, PILOT_LIGHT_PATHS};
+use crate::photon::{epanechnikov, HashGrid, Kernel, Photon};
+use crate::scene::Scene;
+use glam::Vec3;
+use rayon::prelude::*;
+
+/// Pixels whose moments are summed (a stride through those with a d_k): enough that the
+/// pooled bias is well above the sum's own noise, few enough to cost little.
+pub const SCALE_SAMPLE: usize = 16384;
+
+/// The smallest scale: a disc of a quarter of the pilot's k photons.
+pub const MIN_SCALE: f32 = 0.5;
+
+/// The largest scale: a disc of 16 times the pilot's k photons, taken where the pilot sees
+/// no bias at all. A guard, as [`super::CAP`] is.
+pub const MAX_SCALE: f32 = 4.0;
+
+/// The iteration count at which the schedule's constants are evaluated.
+pub const NOMINAL_ITERATIONS: u32 = 64;
+
+/// The cost of one photon visit of a gather in rays (closest-hit rays of the light and eye
+/// passes), so that the radius is chosen for equal time, not equal iterations: a larger disc
+/// visits more photons. Measured from the iterations per second of `ppm` at scales 1 and 3 on
+/// the Cornell box at 512 pixels (docs/radius.md); a property of the code, not of the scene.
+pub const VISIT_COST: f64 = 0.0113;
+
+/// The range the measured order p of the squared bias is kept within: an edge's (1) and
+/// smooth light's (4).
+pub const BIAS_ORDERS: (f64, f64) = (1.0, 4.0);
+
+/// Eye-only estimates per pixel in the pilot, for [`EyeLight`].
+pub const EYE_SAMPLES: usize = 4;
+
+/// The light a pixel gets besides the photons' estimate (emission, sampled direct light,
+/// glossy chains to lights): the mean and the unbiased sample variance of
+/// [`EYE_SAMPLES`] independent one-iteration estimates (radiance, mean of the channels).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct EyeLight {
+    /// Mean.
+    pub mean: f64,
+    /// Variance of one iteration's estimate.
+    pub variance: f64,
+}
+
+impl EyeLight {
+    /// The mean and unbiased variance of `samples` (at least 2).
+    pub fn from_samples(samples: &[f64]) -> Self {
+        let n = samples.len() as f64;
+        let mean = samples.iter().sum::<f64>() / n;
+        let variance = samples.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1.0);
+        EyeLight { mean, variance }
+    }
+}
+
+/// One pixel's terms of the pooled sums, each divided by the pixel's L² (its radiance: the
+/// eye-only mean plus the photons' estimate with the kernel of 2 d_k), per iteration of the
+/// pilot's light paths.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PixelMoments {
+    /// b(d_k)², unbiased (may be negative).
+    pub bias2: f64,
+    /// b(2 d_k)², unbiased (may be negative).
+    pub bias2_double: f64,
+    /// v(d_k).
+    pub variance: f64,
+    /// The eye-only estimate's variance, which does not depend on the radius.
+    pub eye: f64,
+}
+
+/// The scalar flux a relative error is measured in: the mean of the channels.
+#[inline]
+fn scalar(flux: Vec3) -> f64 {
+    (flux.x as f64 + flux.y as f64 + flux.z as f64) / 3.0
+}
+
+/// The moments of the pixel whose pilot point is `p` with k-nearest distance `d_k` (> 0),
+/// counting the photons of at most `max_bounce` bounces, a kernel sum of flux times `scale`
+/// being radiance (the path's throughput times the diffuse albedo / π, over the pilot's light
+/// paths), with eye-only light `eye`. `None` if the pixel's radiance L is not positive.
+/// `grid` should have cells of about 4 d_k (the query's radius).
+pub fn pixel_moments(
+    grid: &HashGrid,
+    p: Vec3,
+    d_k: f32,
+    max_bounce: u32,
+    scale: f64,
+    eye: EyeLight,
+) -> Option<PixelMoments> {
+    let r2 = [d_k * d_k, 4.0 * d_k * d_k, 16.0 * d_k * d_k];
+    let (mut estimate, mut var) = (0.0f64, 0.0f64);
+    let mut bias = [0.0f64; 2];
+    let mut bias_var = [0.0f64; 2];
+    grid.for_each_in_radius(p, 4.0 * d_k, |photon, d2| {
+        if photon.bounce() > max_bounce {
+            return;
+        }
+        let phi = scalar(photon.flux);
+        let k = r2.map(|r2| epanechnikov(d2, r2) as f64);
+        estimate += phi * k[1];
+        var += phi * phi * k[1] * k[1];
+        for (i, (b, bv)) in bias.iter_mut().zip(&mut bias_var).enumerate() {
+            let g = (k[i + 1] - k[i]) / 3.0;
+            *b += phi * g;
+            *bv += phi * phi * g * g;
+        }
+    });
+    let l = eye.mean + scale * estimate;
+    if !(l > 0.0 && l.is_finite()) {
+        return None;
+    }
+    let w = (scale / l).powi(2);
+    Some(PixelMoments {
+        bias2: (bias[0] * bias[0] - bias_var[0]) * w,
+        bias2_double: (bias[1] * bias[1] - bias_var[1]) * w,
+        // v(d_k) = 4 v(2 d_k).
+        variance: 4.0 * var * w,
+        eye: eye.variance / (l * l),
+    })
+}
+
+/// The schedule's constants (c_b, c_v) of the module's formulas for a squared bias of order
+/// `p` and radius reduction `alpha`, over [`NOMINAL_ITERATIONS`] iterations.
+pub fn schedule_constants(alpha: f32, p: f64) -> (f64, f64) {
+    let mut schedule = RadiusSchedule::new(1.0, alpha);
+    let (mut c_b, mut c_v) = (0.0f64, 0.0f64);
+    for _ in 0..NOMINAL_ITERATIONS {
+        let s2 = schedule.radius2();
+        c_b += s2.powf(p / 4.0);
+        c_v += 1.0 / s2;
+        schedule.advance();
+    }
+    let n = NOMINAL_ITERATIONS as f64;
+    (c_b / n, c_v / (n * n))
+}
+
+/// The share of an iteration's time spent gathering at m = 1: `VISIT_COST` photon visits
+/// per ray, so that an iteration of `rays` rays and `visits` photon visits (at m = 1) costs
+/// rays + VISIT_COST visits, and the gathers' part grows as m² (a disc of m² times the area).
+pub fn gather_share(rays: f64, visits: f64) -> f64 {
+    if rays > 0.0 {
+        (VISIT_COST * visits / rays).max(0.0)
+    } else {
+        0.0
+    }
+}
+
+/// The estimated error of the render at scale `m` relative units (see the module's
+/// formulas), at equal time: the iterations are N_m = N (1 + g) / (1 + g m²), g the gathers'
+/// share of an iteration at m = 1, and the two terms go as N^((α−1)p/2) and N^(−α).
+fn error_at(m: f64, terms: &ErrorTerms) -> f64 {
+    let fewer = (1.0 + terms.share) / (1.0 + terms.share * m * m);
+    let bias2 =
+        terms.bias * m.powf(terms.order) * fewer.powf((terms.alpha - 1.0) * terms.order / 2.0);
+    let variance = terms.variance / (m * m) * fewer.powf(-terms.alpha);
+    bias2 + variance + terms.eye / fewer
+}
+
+/// The pooled terms of the error at the nominal iteration count.
+struct ErrorTerms {
+    /// c_b² B(d_k).
+    bias: f64,
+    /// c_v V (PILOT / M).
+    variance: f64,
+    /// The eye-only variance over N: C / N.
+    eye: f64,
+    /// p.
+    order: f64,
+    alpha: f64,
+    /// g of [`gather_share`].
+    share: f64,
+}
+
+/// Scales tried between [`MIN_SCALE`] and [`MAX_SCALE`], evenly in log m.
+const SCALE_STEPS: u32 = 256;
+
+/// The order p and the scale m of the module's rule from the pixels' `moments` (summed in
+/// order, so the same moments give the same m at any thread count), for a render of `paths`
+/// light paths per iteration with radius reduction `alpha`, whose gathers take `share`
+/// ([`gather_share`]) of an iteration at m = 1. m is the least error among [`SCALE_STEPS`]
+/// scales, log-spaced; [`MAX_SCALE`] if neither pooled bias is positive.
+pub fn bias_variance_scale(
+    moments: &[PixelMoments],
+    alpha: f32,
+    paths: u32,
+    share: f64,
+) -> (f64, f32) {
+    let (b1, b2, v, eye) = moments
+        .iter()
+        .fold((0.0f64, 0.0f64, 0.0f64, 0.0f64), |(b1, b2, v, e), m| {
+            (b1 + m.bias2, b2 + m.bias2_double, v + m.variance, e + m.eye)
+        });
+    let (lowest, highest) = BIAS_ORDERS;
+    // The order from the two radii; if only the larger radius shows a bias, smooth light's,
+    // carried down to d_k.
+    let (p, b1) = if b1 > 0.0 && b2 > 0.0 {
+        ((b2 / b1).log2().clamp(lowest, highest), b1)
+    } else if b2 > 0.0 {
+        (highest, b2 / 2f64.powf(highest))
+    } else {
+        return (highest, MAX_SCALE);
+    };
+    let per_iteration = PILOT_LIGHT_PATHS as f64 / paths.max(1) as f64;
+    let (c_b, c_v) = schedule_constants(alpha, p);
+    let terms = ErrorTerms {
+        bias: c_b * c_b * b1,
+        variance: c_v * v * per_iteration,
+        eye: eye / NOMINAL_ITERATIONS as f64,
+        order: p,
+        alpha: alpha as f64,
+        share: share.max(0.0),
+    };
+    if !(terms.bias.is_finite() && terms.variance.is_finite() && terms.share.is_finite()) {
+        return (p, MAX_SCALE);
+    }
+    let (lo, hi) = ((MIN_SCALE as f64).ln(), (MAX_SCALE as f64).ln());
+    let best = (0..=SCALE_STEPS)
+        .map(|i| (lo + (hi - lo) * i as f64 / SCALE_STEPS as f64).exp())
+        .map(|m| (m, error_at(m, &terms)))
+        .fold((MAX_SCALE as f64, f64::INFINITY), |best, (m, e)| {
+            if e < best.1 {
+                (m, e)
+            } else {
+                best
+            }
+        });
+    (p, best.0 as f32)
+}
+
+/// Whether `algorithm`'s radius takes the bias-variance scale: those whose estimate is what
+/// the pilot measures, a density estimate at the first vertex with a diffuse part (ppm and
+/// sppm). vcm and bpm merge at every non-delta camera vertex, glossy ones too, which the
+/// pilot does not see; vcm also weighs its merges by MIS against its connections, so a larger
+/// merge radius does not cut its variance as 1/r² (the connections carry much of the light)
+/// while the merges' share, and so their blur, grows with it. Their merge radius stays the
+/// median of d_k (m = 1). The others do not merge.
+pub(super) fn scales(algorithm: Algorithm) -> bool {
+    match algorithm {
+        Algorithm::Ppm | Algorithm::Sppm => true,
+        Algorithm::Vcm | Algorithm::Bpm | Algorithm::Path | Algorithm::Bpt | Algorithm::Lt => false,
+    }
+}
+
+/// The rays of the pilot's two passes: its eye paths (one per pixel, to the first diffuse
+/// vertex) and its light paths ([`PILOT_LIGHT_PATHS`]).
+#[derive(Clone, Copy, Debug)]
+pub(super) struct PilotRays {
+    pub eye: u64,
+    pub light: u64,
+}
+
+/// What the pilot found: per pixel its point, d_k and capped radius, the photon map, the
+/// rays it took, and k.
+pub(super) struct Pilot<'a> {
+    pub points: &'a [Option<PilotPoint>],
+    pub distances: &'a [Option<f32>],
+    pub radii: &'a [f32],
+    pub photons: &'a [Photon],
+    pub rays: PilotRays,
+    pub k: usize,
+}
+
+/// The eye-only light of `pixel`: [`EYE_SAMPLES`] estimates of the eye pass with no photons
+/// (what the render adds to the photons' estimate there: emission, sampled direct light,
+/// glossy chains), on the pilot's own stream.
+fn eye_light(
+    scene: &Scene,
+    settings: &RenderSettings,
+    empty: &GatherContext<'_>,
+    pixel: usize,
+    counters: &mut RayCounters,
+) -> EyeLight {
+    let width = scene.camera.width as usize;
+    let mut samples = [0.0f64; EYE_SAMPLES];
+    for (i, sample) in samples.iter_mut().enumerate() {
+        let l = trace_eye_path(scene, settings, empty, i as u64 + 1, pixel, width, counters);
+        *sample = (l.x as f64 + l.y as f64 + l.z as f64) / 3.0;
+    }
+    EyeLight::from_samples(&samples)
+}
+
+/// The bias-variance scale m ([`super::radius_scale`]) from a stride through the pixels with
+/// a distance, each at its capped d_k (`typical` sizes the grid's cells), for the render's
+/// light paths per iteration (`--photons` where the algorithm reads it, otherwise one per
+/// pixel). An iteration's cost is estimated from the pilot as its rays (the light paths',
+/// scaled to the render's count, and the eye paths') and its photon visits (k per pixel,
+/// scaled likewise).
+pub(super) fn pilot_scale(
+    scene: &Scene,
+    settings: &RenderSettings,
+    pilot: &Pilot<'_>,
+    typical: f32,
+    counters: &mut RayCounters,
+) -> f32 {
+    let found: Vec<usize> = (0..pilot.points.len())
+        .filter(|&i| pilot.points[i].is_some() && pilot.distances[i].is_some())
+        .collect();
+    let stride = found.len().div_ceil(SCALE_SAMPLE).max(1);
+    let mut grid = HashGrid::new();
+    grid.build(pilot.photons, 4.0 * typical);
+    let mut empty_grid = HashGrid::new();
+    empty_grid.build(&[], typical);
+    let empty = GatherContext {
+        grid: &empty_grid,
+        kernel: Kernel::new(typical),
+        radius: typical,
+        inv_paths: 1.0,
+    };
+    let eye_settings = RenderSettings {
+        seed: settings.seed ^ PILOT_EYE_STREAM,
+        ..settings.clone()
+    };
+    let per_path_weight = 1.0 / PILOT_LIGHT_PATHS as f64;
+    let (moments, eye_counters): (Vec<Option<PixelMoments>>, Vec<RayCounters>) = found
+        .par_iter()
+        .step_by(stride)
+        .map(|&i| {
+            let Some(point) = pilot.points[i] else {
+                return (None, RayCounters::default());
+            };
+            let mut eye_counters = RayCounters::default();
+            let eye = eye_light(scene, &eye_settings, &empty, i, &mut eye_counters);
+            let max_bounce = gather_limit(settings.max_depth, point.depth);
+            let scale = point.weight as f64 * per_path_weight;
+            let moments = pixel_moments(
+                &grid,
+                point.position,
+                pilot.radii[i],
+                max_bounce,
+                scale,
+                eye,
+            );
+            (moments, eye_counters)
+        })
+        .unzip();
+    let total = eye_counters
+        .into_iter()
+        .fold(RayCounters::default(), RayCounters::merge);
+    counters.rays += total.rays;
+    counters.shadow_rays += total.shadow_rays;
+    let moments: Vec<PixelMoments> = moments.into_iter().flatten().collect();
+    let paths = if settings.algorithm.reads(Setting::Photons) {
+        settings.photons
+    } else {
+        pilot.points.len().clamp(1, u32::MAX as usize) as u32
+    };
+    let per_path = paths as f64 / PILOT_LIGHT_PATHS as f64;
+    let rays = pilot.rays.light as f64 * per_path + pilot.rays.eye as f64;
+    let visits = found.len() as f64 * pilot.k as f64 * per_path;
+    let share = gather_share(rays, visits);
+    bias_variance_scale(&moments, settings.alpha, paths, share).1
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::photon::Photon;
+    use crate::sampling::Rng;
+    use glam::Vec2;
+
+    /// `n` photons of flux 1 on the plane z = 0 over [-1, 1]², with density proportional to
+    /// 1 + a (x² + y²) (rejection sampling), bounce 1.
+    fn quadratic_photons(n: usize, a: f32, seed: u64) -> Vec<Photon> {
+        let mut rng = Rng::new(seed, 0, 0);
+        let top = 1.0 + 2.0 * a.max(0.0);
+        let mut photons = Vec::with_capacity(n);
+        while photons.len() < n {
+            let u = rng.uniform2() * 2.0 - Vec2::ONE;
+            if rng.uniform() * top <= 1.0 + a * u.length_squared() {
+                let key = Photon::key(photons.len() as u32, 1);
+                photons.push(Photon::new(u.extend(0.0), Vec3::Z, Vec3::ONE, key));
+            }
+        }
+        photons
+    }
+
+    /// For a density f = c (1 + a |x|²) the disc-average expansion is exact (Δf = 4ac
+    /// everywhere, no higher derivatives), so at x the bias at radius r relative to the
+    /// weight T = E[Ê(2 d_k)] = f(x) + Δf (2 d_k)²/12 is (4a r²/12) / (T / c), and the relative
+    /// variance at d_k is 4/(3π d_k² f(x)) (∫K² of the Epanechnikov kernel is 4/(3π r²)). The
+    /// pooled moments over queries spread across the plane recover both radii's squared bias
+    /// (so an order of 4) and the variance, and no bias for a uniform density.
+    #[test]
+    fn the_pooled_moments_are_the_laplacian_bias_and_the_poisson_variance() {
+        let n = 1_000_000;
+        let d_k = 0.1f64;
+        for (a, seed) in [(0.0f64, 1u64), (3.0, 2)] {
+            let photons = quadratic_photons(n, a as f32, seed);
+            let mut grid = HashGrid::new();
+            grid.build(&photons, 4.0 * d_k as f32);
+            let c = n as f64 / (4.0 * (1.0 + 2.0 * a / 3.0));
+            let mut rng = Rng::new(seed + 10, 0, 0);
+            let queries = 200;
+            let mut sum = PixelMoments::default();
+            let mut expected = PixelMoments::default();
+            for _ in 0..queries {
+                // Within [-0.5, 0.5]², so that the discs (radius 4 d_k) stay on the square.
+                let q = rng.uniform2() - Vec2::splat(0.5);
+                let m = pixel_moments(
+                    &grid,
+                    q.extend(0.0),
+                    d_k as f32,
+                    1,
+                    1.0,
+                    EyeLight::default(),
+                )
+                .unwrap();
+                let r2 = q.length_squared() as f64;
+                let t = 1.0 + a * r2 + 4.0 * a * (2.0 * d_k).powi(2) / 12.0;
+                let f = c * (1.0 + a * r2);
+                let weight = 1.0 / queries as f64;
+                sum.bias2 += m.bias2 * weight;
+                sum.bias2_double += m.bias2_double * weight;
+                sum.variance += m.variance * weight;
+                expected.bias2 += (4.0 * a * d_k * d_k / 12.0 / t).powi(2) * weight;
+                expected.bias2_double += (16.0 * a * d_k * d_k / 12.0 / t).powi(2) * weight;
+                expected.variance += 4.0 / (3.0 * std::f64::consts::PI * d_k * d_k * f) * weight;
+            }
+            assert!(
+                (sum.variance / expected.variance - 1.0).abs() < 0.05,
+                "a {a}: variance {:e} vs {:e}",
+                sum.variance,
+                expected.variance
+            );
+            // The noise of one query's b̂(d_k)² is about 2e-6 here (var(b̂) at d_k over T²),
+            // 16 times less at 2 d_k per unit of b²; a missing factor (the 1/3, a radius
+            // off by its square root of 2) is far outside these bounds.
+            for (got, want, floor) in [
+                (sum.bias2, expected.bias2, 2e-6),
+                (sum.bias2_double, expected.bias2_double, 2e-6),
+            ] {
+                let tolerance = 0.15 * want + floor;
+                assert!(
+                    (got - want).abs() < tolerance,
+                    "a {a}: bias² {got:e} vs {want:e} (tolerance {tolerance:e})"
+                );
+            }
+            if a > 0.0 {
+                let (p, _) = bias_variance_scale(&[sum], 2.0 / 3.0, 1000, 0.0);
+                assert!((p - 4.0).abs() < 0.3, "order {p}");
+            }
+        }
+    }
+
+    /// m^(p+2) = 2 c_v V (PILOT / M) / (p c_b² B): at p = 4, 2 c_b²/c_v is about 7.3 over the
+    /// nominal iterations; a render with 64 times the pilot's light paths per iteration takes
+    /// half the scale; an edge's order (B doubling with the radius) takes p = 1; no pooled
+    /// bias gives the largest scale, a bias far above the variance the smallest.
+    #[test]
+    fn the_scale_balances_bias_and_variance() {
+        let alpha = 2.0 / 3.0;
+        let (c_b, c_v) = schedule_constants(alpha, 4.0);
+        let kappa = 2.0 * c_b * c_b / c_v;
+        assert!((7.0..7.6).contains(&kappa), "kappa {kappa}");
+        let smooth = [PixelMoments {
+            bias2: 1e-4,
+            bias2_double: 16e-4,
+            variance: 2e-2,
+            eye: 0.0,
+        }];
+        // The search's scales are a step of ln 8 / 256 apart in log m.
+        let step = ((MAX_SCALE / MIN_SCALE) as f64).ln() / SCALE_STEPS as f64;
+        let near = |m: f32, want: f64| (m as f64 / want).ln().abs() <= 0.5 * step + 1e-6;
+        let (p, m) = bias_variance_scale(&smooth, alpha, PILOT_LIGHT_PATHS, 0.0);
+        assert!((p - 4.0).abs() < 1e-9, "order {p}");
+        let want = (2e-2 / (kappa * 1e-4)).powf(1.0 / 6.0);
+        assert!(near(m, want), "m {m}, closed form {want}");
+        let (_, more) = bias_variance_scale(&smooth, alpha, PILOT_LIGHT_PATHS * 64, 0.0);
+        assert!(near(more, 0.5 * want), "{more} vs {want} / 2");
+        let edge = [PixelMoments {
+            bias2: 1e-4,
+            bias2_double: 2e-4,
+            variance: 2e-2,
+            eye: 0.0,
+        }];
+        let (p, m_edge) = bias_variance_scale(&edge, alpha, PILOT_LIGHT_PATHS, 0.0);
+        let (c_b, c_v) = schedule_constants(alpha, 1.0);
+        let want = (2.0 * c_v * 2e-2 / (c_b * c_b * 1e-4)).powf(1.0 / 3.0);
+        assert!((p - 1.0).abs() < 1e-9, "order {p}");
+        assert!(near(m_edge, want), "{m_edge} vs {want}");
+        let flat = [PixelMoments {
+            bias2: -1e-6,
+            bias2_double: -1e-6,
+            variance: 2e-2,
+            eye: 0.0,
+        }];
+        assert_eq!(bias_variance_scale(&flat, alpha, 1000, 0.0).1, MAX_SCALE);
+        let steep = [PixelMoments {
+            bias2: 1.0,
+            bias2_double: 16.0,
+            variance: 1e-6,
+            eye: 0.0,
+        }];
+        assert_eq!(bias_variance_scale(&steep, alpha, 1000, 0.0).1, MIN_SCALE);
+    }
+
+    /// At equal time a larger disc costs iterations: with the gathers a tenth of an
+    /// iteration the scale falls, and falls further when the eye pass's own noise, which
+    /// only more iterations reduce, is large; without a gather cost that noise does not move
+    /// the scale (it does not depend on the radius).
+    #[test]
+    fn the_scale_pays_for_its_time() {
+        let alpha = 2.0 / 3.0;
+        let moments = |eye| {
+            [PixelMoments {
+                bias2: 1e-4,
+                bias2_double: 16e-4,
+                variance: 2e-2,
+                eye,
+            }]
+        };
+        let at = |eye, share| bias_variance_scale(&moments(eye), alpha, PILOT_LIGHT_PATHS, share).1;
+        let free = at(0.0, 0.0);
+        assert_eq!(at(1.0, 0.0), free);
+        let costly = at(0.0, 0.1);
+        let noisy = at(1.0, 0.1);
+        assert!(costly < free && noisy < costly, "{free} {costly} {noisy}");
+    }
+}
