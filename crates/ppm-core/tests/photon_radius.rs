@@ -236,3 +236,29 @@ fn the_photon_radius_is_the_same_at_any_thread_count() {
         assert!(one.0.mean().max_element() > 0.0, "{algorithm:?}");
     }
 }
+
+/// Only ppm takes the bias-variance scale: sppm, vcm and bpm start at the k-nearest
+/// distances themselves (docs/radius.md, "Why only `ppm`"), while ppm's differ from them.
+#[test]
+fn only_ppm_takes_the_scale() {
+    let scene = sphere_on_floor(1.0, 16);
+    for algorithm in [
+        Algorithm::Ppm,
+        Algorithm::Sppm,
+        Algorithm::Vcm,
+        Algorithm::Bpm,
+    ] {
+        let s = RenderSettings {
+            seed: 3,
+            ..RenderSettings::for_algorithm(&scene, algorithm)
+        };
+        let radii = photon_radii(&scene, &s, &mut RayCounters::default());
+        let nearest =
+            nearest_photon_radii(&scene, &s, NEAREST_PHOTONS, &mut RayCounters::default());
+        assert_eq!(
+            radii == nearest,
+            algorithm != Algorithm::Ppm,
+            "{algorithm:?}"
+        );
+    }
+}

@@ -1,6 +1,7 @@
 //! The default initial radius of photon mapping (`photons`): each pixel's distance to its
-//! [`NEAREST_PHOTONS`]-th nearest photon in a pilot photon map of a fixed size, times one
-//! scale for the whole image that balances bias against variance ([`super::radius_scale`]).
+//! [`NEAREST_PHOTONS`]-th nearest photon in a pilot photon map of a fixed size, for `ppm`
+//! times one scale for the whole image that balances bias against variance
+//! ([`super::radius_scale`]).
 //!
 //! The radius should be free of the scene's units, its extent and the image's resolution.
 //! A pixel footprint (`auto`, [`super::footprint`]) is free of the first two but not of the
@@ -20,7 +21,7 @@
 //! [`PILOT_LIGHT_PATHS`] light paths traced with the render's depth and direct-light mode
 //! (every bounce for `vcm`, which merges them all) on a random stream of their own. Pixels whose pilot finds no diffuse surface, or fewer than k
 //! photons within the cap, take the median (no surface) or the cap (too few photons). The
-//! scale m comes from the same pilot: the squared bias and the variance of the estimate at
+//! scale m (`ppm`; 1 for the others) comes from the same pilot: the squared bias and the variance of the estimate at
 //! d_k pooled over a sample of pixels, the eye pass's own noise there, and the cost of a
 //! larger disc, so that the error at equal time is least ([`super::radius_scale`]).
 //!
@@ -31,8 +32,7 @@
 //!   (`sppm` and `vcm` trace one light path per pixel), and d_k is measured at points, not
 //!   over pixels, so d_k of a surface point does not depend on the image's size. The scale
 //!   m does, through time alone: at equal time more pixels make the gathers a larger share
-//!   of an iteration, and a larger disc costs more there (and for `sppm` and `vcm` through
-//!   their light paths per iteration, which set the variance).
+//!   of an iteration, and a larger disc costs more there.
 //! - For a uniform photon density rho (photons per unit area) on a plane, pi d_k^2 rho is
 //!   Gamma(k, 1) distributed (the k-th point of a Poisson process), so
 //!   E[d_k^2] = k / (pi rho): the first iteration's disc holds about k photons per
@@ -314,7 +314,8 @@ pub fn nearest_photon_radii(
         .expect("a pass that is never stopped finishes")
 }
 
-/// Whether the radii are multiplied by the bias-variance scale.
+/// Whether the radii are multiplied by the bias-variance scale where the algorithm takes it
+/// ([`scales`]: `Yes`), or never (`No`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Scaled {
     Yes,
@@ -369,7 +370,7 @@ fn photon_radii_until(
         rays,
         k,
     };
-    if scaled == Scaled::No {
+    if scaled == Scaled::No || !scales(settings.algorithm) {
         return Some(radii);
     }
     let m = pilot_scale(scene, settings, &pilot, mid, counters);
@@ -402,11 +403,7 @@ pub fn initial_pixel_radii(
                 scene,
                 settings,
                 NEAREST_PHOTONS,
-                if scales(s.algorithm) {
-                    Scaled::Yes
-                } else {
-                    Scaled::No
-                },
+                Scaled::Yes,
                 counters,
                 &poll,
             )

@@ -294,17 +294,25 @@ pub fn bias_variance_scale(
     (p, best.0 as f32)
 }
 
-/// Whether `algorithm`'s radius takes the bias-variance scale: those whose estimate is what
-/// the pilot measures, a density estimate at the first vertex with a diffuse part (ppm and
-/// sppm). vcm and bpm merge at every non-delta camera vertex, glossy ones too, which the
-/// pilot does not see; vcm also weighs its merges by MIS against its connections, so a larger
-/// merge radius does not cut its variance as 1/r² (the connections carry much of the light)
-/// while the merges' share, and so their blur, grows with it. Their merge radius stays the
-/// median of d_k (m = 1). The others do not merge.
+/// Whether `algorithm`'s radius takes the bias-variance scale: ppm's, whose estimate is what
+/// the pilot measures (a density estimate at the first vertex with a diffuse part, with the
+/// gather costs of [`VISIT_COST`]). sppm's is the same estimate, but its gathers cost far more
+/// per photon visit (each photon looks up the visible points near it, and a larger radius
+/// finds more): measured, the scale cost it 1.3-1.7 times the error at equal time, with 55-70 %
+/// of the iterations (docs/performance.md), so it keeps m = 1. vcm and bpm merge at every
+/// non-delta camera vertex, glossy ones too, which the pilot does not see; vcm also weighs its
+/// merges by MIS against its connections, so a larger merge radius does not cut its variance
+/// as 1/r² while the merges' share, and so their blur, grows with it. Their merge radius stays
+/// the median of d_k (m = 1). The others do not merge.
 pub(super) fn scales(algorithm: Algorithm) -> bool {
     match algorithm {
-        Algorithm::Ppm | Algorithm::Sppm => true,
-        Algorithm::Vcm | Algorithm::Bpm | Algorithm::Path | Algorithm::Bpt | Algorithm::Lt => false,
+        Algorithm::Ppm => true,
+        Algorithm::Sppm
+        | Algorithm::Vcm
+        | Algorithm::Bpm
+        | Algorithm::Path
+        | Algorithm::Bpt
+        | Algorithm::Lt => false,
     }
 }
 
