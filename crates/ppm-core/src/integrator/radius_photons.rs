@@ -289,16 +289,7 @@ pub fn photon_radii_with(
     k: usize,
     counters: &mut RayCounters,
 ) -> Vec<f32> {
-    let never = || false;
-    photon_radii_until(
-        scene,
-        settings,
-        k,
-        Scaled::Yes,
-        counters,
-        &Poll::new(&never),
-    )
-    .expect("a pass that is never stopped finishes")
+    unstopped(scene, settings, k, Scaled::Yes, counters)
 }
 
 /// [`photon_radii_with`] without the bias-variance scale (m = 1): each pixel's capped d_k
@@ -309,8 +300,19 @@ pub fn nearest_photon_radii(
     k: usize,
     counters: &mut RayCounters,
 ) -> Vec<f32> {
+    unstopped(scene, settings, k, Scaled::No, counters)
+}
+
+/// [`photon_radii_until`] with nothing to stop it.
+fn unstopped(
+    scene: &Scene,
+    settings: &RenderSettings,
+    k: usize,
+    scaled: Scaled,
+    counters: &mut RayCounters,
+) -> Vec<f32> {
     let never = || false;
-    photon_radii_until(scene, settings, k, Scaled::No, counters, &Poll::new(&never))
+    photon_radii_until(scene, settings, k, scaled, counters, &Poll::new(&never))
         .expect("a pass that is never stopped finishes")
 }
 
