@@ -364,6 +364,9 @@ fn photon_radii_until(
             (None, _) => mid,
         })
         .collect();
+    if scaled == Scaled::No || !scales(settings.algorithm) {
+        return Some(radii);
+    }
     let pilot = Pilot {
         points: &points,
         distances: &distances,
@@ -372,9 +375,6 @@ fn photon_radii_until(
         rays,
         k,
     };
-    if scaled == Scaled::No || !scales(settings.algorithm) {
-        return Some(radii);
-    }
     let m = pilot_scale(scene, settings, &pilot, mid, counters);
     Some(radii.iter().map(|r| m * r).collect())
 }

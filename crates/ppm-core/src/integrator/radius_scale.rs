@@ -66,7 +66,7 @@ use super::footprint::PilotPoint;
 use super::ppm::trace_eye_path;
 use super::radius::RadiusSchedule;
 use super::radius_photons::PILOT_EYE_STREAM;
-use super::{gather_limit, Algorithm, GatherContext, RenderSettings, Setting, PILOT_LIGHT_PATHS};
+use super::{gather_limit, Algorithm, GatherContext, RenderSettings, PILOT_LIGHT_PATHS};
 use crate::photon::{epanechnikov, HashGrid, Kernel, Photon};
 use crate::scene::Scene;
 use glam::Vec3;
@@ -349,15 +349,14 @@ fn eye_light(
     let mut samples = [0.0f64; EYE_SAMPLES];
     for (i, sample) in samples.iter_mut().enumerate() {
         let l = trace_eye_path(scene, settings, empty, i as u64 + 1, pixel, width, counters);
-        *sample = (l.x as f64 + l.y as f64 + l.z as f64) / 3.0;
+        *sample = scalar(l);
     }
     EyeLight::from_samples(&samples)
 }
 
 /// The bias-variance scale m ([`super::radius_scale`]) from a stride through the pixels with
 /// a distance, each at its capped d_k (`typical` sizes the grid's cells), for the render's
-/// light paths per iteration (`--photons` where the algorithm reads it, otherwise one per
-/// pixel). An iteration's cost is estimated from the pilot as its rays (the light paths',
+/// light paths per iteration (`--photons`). An iteration's cost is estimated from the pilot as its rays (the light paths',
 /// scaled to the render's count, and the eye paths') and its photon visits (k per pixel,
 /// scaled likewise).
 pub(super) fn pilot_scale(
@@ -367,8 +366,9 @@ pub(super) fn pilot_scale(
     typical: f32,
     counters: &mut RayCounters,
 ) -> f32 {
-    let found: Vec<usize> = (0..pilot.points.len())
-        .filter(|&i| pilot.points[i].is_some() && pilot.distances[i].is_some())
+    let found: Vec<(usize, PilotPoint)> = (pilot.points.iter().zip(pilot.distances))
+        .enumerate()
+        .filter_map(|(i, (point, d))| point.filter(|_| d.is_some()).map(|point| (i, point)))
         .collect();
     let stride = found.len().div_ceil(SCALE_SAMPLE).max(1);
     let mut grid = HashGrid::new();
@@ -389,10 +389,7 @@ pub(super) fn pilot_scale(
     let (moments, eye_counters): (Vec<Option<PixelMoments>>, Vec<RayCounters>) = found
         .par_iter()
         .step_by(stride)
-        .map(|&i| {
-            let Some(point) = pilot.points[i] else {
-                return (None, RayCounters::default());
-            };
+        .map(|&(i, point)| {
             let mut eye_counters = RayCounters::default();
             let eye = eye_light(scene, &eye_settings, &empty, i, &mut eye_counters);
             let max_bounce = gather_limit(settings.max_depth, point.depth);
@@ -414,11 +411,8 @@ pub(super) fn pilot_scale(
     counters.rays += total.rays;
     counters.shadow_rays += total.shadow_rays;
     let moments: Vec<PixelMoments> = moments.into_iter().flatten().collect();
-    let paths = if settings.algorithm.reads(Setting::Photons) {
-        settings.photons
-    } else {
-        pilot.points.len().clamp(1, u32::MAX as usize) as u32
-    };
+    // ppm's light paths per iteration (`--photons`).
+    let paths = settings.photons;
     let per_path = paths as f64 / PILOT_LIGHT_PATHS as f64;
     let rays = pilot.rays.light as f64 * per_path + pilot.rays.eye as f64;
     let visits = found.len() as f64 * pilot.k as f64 * per_path;
