@@ -13,6 +13,7 @@
 # Usage: scripts/radius_against_reference.sh REFERENCE [OUT]
 #   env: SCENE (scenes/compare/smallvcm_glass_ceiling.yml), ALGORITHM (ppm), SIZE (512),
 #        RUN_SECONDS (20), ROUNDS (2), RADII ("photons 0.01 0.02 0.04 0.08"), REF_NOISE (0),
+#        SEED_BASE (2000: round r renders with seed SEED_BASE + r),
 #        PYTHON (/work/venv-mitsuba/bin/python)
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -26,11 +27,12 @@ rounds=${ROUNDS:-2}
 radii=${RADII:-photons 0.01 0.02 0.04 0.08}
 python=${PYTHON:-/work/venv-mitsuba/bin/python}
 ref_noise=${REF_NOISE:-0}
+seed_base=${SEED_BASE:-2000}
 mkdir -p "$out"
 CARGO_INCREMENTAL=0 cargo build --release --quiet -p ppm-cli
 for r in $(seq 1 "$rounds"); do
   for radius in $radii; do
-    target/release/ppm "$scene" -a "$algorithm" --seed $((2000 + r)) \
+    target/release/ppm "$scene" -a "$algorithm" --seed $((seed_base + r)) \
       --width "$size" --height "$size" --threads 2 --time-limit "$seconds" --radius "$radius" \
       -q -o "$out/ppm_${radius}_r$r.exr"
   done
