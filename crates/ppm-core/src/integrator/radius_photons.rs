@@ -47,7 +47,7 @@
 
 use super::camera_walk::RayCounters;
 use super::footprint::{footprint_radii, pilot_points, PilotPoint};
-use super::radius_scale::{pilot_scale, scales, Pilot, PilotRays};
+use super::radius_scale::{pilot_scale, scales, Pilot};
 use super::runner::Poll;
 use super::{
     gather_limit, trace_light_path, DirectMode, MemoryEstimate, MemoryPart, PhotonCounters, Radius,
@@ -335,14 +335,10 @@ fn photon_radii_until(
 ) -> Option<Vec<f32>> {
     let k = k.max(1);
     let s = settings;
-    let before = *counters;
     let points = pilot_points(scene, s.seed, s.max_depth, s.rr_depth, counters);
-    let after_points = *counters;
+    let before_photons = counters.rays;
     let photons = pilot_photons(scene, settings, counters, poll)?;
-    let rays = PilotRays {
-        eye: (after_points.rays - before.rays) + (after_points.shadow_rays - before.shadow_rays),
-        light: counters.rays - after_points.rays,
-    };
+    let light_rays = counters.rays - before_photons;
     let distances = pixel_distances(scene, settings, &points, &photons, k);
     let found: Vec<f32> = distances
         .iter()
@@ -372,7 +368,7 @@ fn photon_radii_until(
         distances: &distances,
         radii: &radii,
         photons: &photons,
-        rays,
+        light_rays,
         k,
     };
     let m = pilot_scale(scene, settings, &pilot, mid, counters);

@@ -54,10 +54,14 @@
 //! N_m = N (1 + g) / (1 + g m²), g the gathers' share at m = 1 ([`gather_share`]). As
 //! functions of N the three terms go as N^((α−1)p/2), N^(−α) and N^(−1) (r_i² ∝ i^(α−1); Knaus
 //! and Zwicker 2011 balance the first two for p = 4). m is the scale of least error among [`SCALE_STEPS`] scales,
-//! log-spaced in [[`MIN_SCALE`], [`MAX_SCALE`]], the constants evaluated on the schedule at
-//! [`NOMINAL_ITERATIONS`]. Without the eye term and the cost, and at p = 4, the minimum is
-//! m⁶ = V (PILOT / M) / (κ B(d_k)), κ = 2 c_b²/c_v (7.3 at α = 2/3 over 64 iterations, 5.3
-//! over 8 and 8.1 over 4096: both terms go as N^(−2/3) there, so m hardly depends on N).
+//! log-spaced in [[`MIN_SCALE`], [`MAX_SCALE`]], the constants evaluated on the schedule over
+//! N nominal iterations ([`nominal_iterations`]): a render of [`NOMINAL_RAYS`] whose iteration
+//! costs the pilot's estimate, its light paths' rays, its eye paths' (those of the eye-only
+//! estimates) and its photon visits. Without the eye term and the cost, and at p = 4, the
+//! minimum is m⁶ = V (PILOT / M) / (κ B(d_k)), κ = 2 c_b²/c_v (7.3 at α = 2/3 over 64
+//! iterations, 5.3 over 8 and 8.1 over 4096: both terms go as N^(−2/3) there, so m hardly
+//! depends on N); at p = 1 it is m³ = 2 c_v V (PILOT / M) / (c_b² B(d_k)), and m falls as
+//! N^(−1/6), which is why N follows an iteration's cost, not a constant count.
 //! Where no bias is measured (light uniform within the pilot's resolution) the best radius is
 //! unbounded and m is the largest.
 
@@ -83,14 +87,25 @@ pub const MIN_SCALE: f32 = 0.5;
 /// no bias at all. A guard, as [`super::CAP`] is.
 pub const MAX_SCALE: f32 = 4.0;
 
-/// The iteration count at which the schedule's constants are evaluated.
-pub const NOMINAL_ITERATIONS: u32 = 64;
+/// The length of the render the scale is chosen for, in rays (an iteration's rays plus
+/// [`VISIT_COST`] per photon visit): about 20 s on two cores at 10 M rays/s. A length in
+/// rays, not in iterations, so that the same scene gets the radius of the same render time
+/// at any resolution: an iteration at 128 px costs a fraction of one at 1024 px, and a render
+/// of the same time has that many more iterations, over which a fixed bias weighs more
+/// against the falling variance. Not the run's own length (`-n`, `--time-limit`): a
+/// progressive render's radii must not depend on when it is stopped, so that a resumed
+/// render equals an uninterrupted one.
+pub const NOMINAL_RAYS: f64 = 2.0e8;
 
-/// The cost of one photon visit of a gather in rays (closest-hit rays of the light and eye
-/// passes), so that the radius is chosen for equal time, not equal iterations: a larger disc
-/// visits more photons. Measured from the iterations per second of `ppm` at scales 1 and 3 on
-/// the Cornell box at 512 pixels (docs/radius.md); a property of the code, not of the scene.
-pub const VISIT_COST: f64 = 0.0113;
+/// The most iterations [`nominal_iterations`] gives (a render whose iteration is a few rays).
+pub const MAX_NOMINAL_ITERATIONS: u32 = 1 << 16;
+
+/// The cost of one photon visit of a gather in rays (the rays of the light and eye passes,
+/// shadow rays included), so that the radius is chosen for equal time, not equal iterations:
+/// a larger disc visits more photons. Measured from the iterations per second of `ppm` at
+/// scales 1 and 3 on the Cornell box at 512 pixels (docs/radius.md): there the gathers are
+/// 14 % of an iteration at m = 1. A property of the code, not of the scene.
+pub const VISIT_COST: f64 = 0.0145;
 
 /// The range the measured order p of the squared bias is kept within: an edge's (1) and
 /// smooth light's (4).
@@ -186,18 +201,32 @@ pub fn pixel_moments(
     })
 }
 
+/// The iterations of a render of [`NOMINAL_RAYS`] whose iterations take `rays` rays with
+/// gathers of `share` ([`gather_share`]) at m = 1: N = NOMINAL_RAYS / (rays (1 + g)), within
+/// [1, [`MAX_NOMINAL_ITERATIONS`]].
+pub fn nominal_iterations(rays: f64, share: f64) -> u32 {
+    let cost = rays * (1.0 + share.max(0.0));
+    if !(cost > 0.0 && cost.is_finite()) {
+        return MAX_NOMINAL_ITERATIONS;
+    }
+    (NOMINAL_RAYS / cost)
+        .round()
+        .clamp(1.0, MAX_NOMINAL_ITERATIONS as f64) as u32
+}
+
 /// The schedule's constants (c_b, c_v) of the module's formulas for a squared bias of order
-/// `p` and radius reduction `alpha`, over [`NOMINAL_ITERATIONS`] iterations.
-pub fn schedule_constants(alpha: f32, p: f64) -> (f64, f64) {
+/// `p` and radius reduction `alpha`, over `iterations` (at least 1).
+pub fn schedule_constants(alpha: f32, p: f64, iterations: u32) -> (f64, f64) {
+    let iterations = iterations.max(1);
     let mut schedule = RadiusSchedule::new(1.0, alpha);
     let (mut c_b, mut c_v) = (0.0f64, 0.0f64);
-    for _ in 0..NOMINAL_ITERATIONS {
+    for _ in 0..iterations {
         let s2 = schedule.radius2();
         c_b += s2.powf(p / 4.0);
         c_v += 1.0 / s2;
         schedule.advance();
     }
-    let n = NOMINAL_ITERATIONS as f64;
+    let n = iterations as f64;
     (c_b / n, c_v / (n * n))
 }
 
@@ -223,7 +252,7 @@ fn error_at(m: f64, terms: &ErrorTerms) -> f64 {
     bias2 + variance + terms.eye / fewer
 }
 
-/// The pooled terms of the error at the nominal iteration count.
+/// The pooled terms of the error at the nominal iteration count N.
 struct ErrorTerms {
     /// c_b² B(d_k).
     bias: f64,
@@ -244,13 +273,15 @@ const SCALE_STEPS: u32 = 256;
 /// The order p and the scale m of the module's rule from the pixels' `moments` (summed in
 /// order, so the same moments give the same m at any thread count), for a render of `paths`
 /// light paths per iteration with radius reduction `alpha`, whose gathers take `share`
-/// ([`gather_share`]) of an iteration at m = 1. m is the least error among [`SCALE_STEPS`]
-/// scales, log-spaced; [`MAX_SCALE`] if neither pooled bias is positive.
+/// ([`gather_share`]) of an iteration at m = 1, over `iterations` at m = 1
+/// ([`nominal_iterations`]). m is the least error among [`SCALE_STEPS`] scales, log-spaced;
+/// [`MAX_SCALE`] if neither pooled bias is positive.
 pub fn bias_variance_scale(
     moments: &[PixelMoments],
     alpha: f32,
     paths: u32,
     share: f64,
+    iterations: u32,
 ) -> (f64, f32) {
     let (b1, b2, v, eye) = moments
         .iter()
@@ -268,11 +299,11 @@ pub fn bias_variance_scale(
         return (highest, MAX_SCALE);
     };
     let per_iteration = PILOT_LIGHT_PATHS as f64 / paths.max(1) as f64;
-    let (c_b, c_v) = schedule_constants(alpha, p);
+    let (c_b, c_v) = schedule_constants(alpha, p, iterations);
     let terms = ErrorTerms {
         bias: c_b * c_b * b1,
         variance: c_v * v * per_iteration,
-        eye: eye / NOMINAL_ITERATIONS as f64,
+        eye: eye / iterations.max(1) as f64,
         order: p,
         alpha: alpha as f64,
         share: share.max(0.0),
@@ -316,22 +347,14 @@ pub(super) fn scales(algorithm: Algorithm) -> bool {
     }
 }
 
-/// The rays of the pilot's two passes: its eye paths (one per pixel, to the first diffuse
-/// vertex) and its light paths ([`PILOT_LIGHT_PATHS`]).
-#[derive(Clone, Copy, Debug)]
-pub(super) struct PilotRays {
-    pub eye: u64,
-    pub light: u64,
-}
-
 /// What the pilot found: per pixel its point, d_k and capped radius, the photon map, the
-/// rays it took, and k.
+/// rays of its light paths ([`PILOT_LIGHT_PATHS`]), and k.
 pub(super) struct Pilot<'a> {
     pub points: &'a [Option<PilotPoint>],
     pub distances: &'a [Option<f32>],
     pub radii: &'a [f32],
     pub photons: &'a [Photon],
-    pub rays: PilotRays,
+    pub light_rays: u64,
     pub k: usize,
 }
 
@@ -405,6 +428,7 @@ pub(super) fn pilot_scale(
             (moments, eye_counters)
         })
         .unzip();
+    let sampled = eye_counters.len();
     let total = eye_counters
         .into_iter()
         .fold(RayCounters::default(), RayCounters::merge);
@@ -414,10 +438,17 @@ pub(super) fn pilot_scale(
     // ppm's light paths per iteration (`--photons`).
     let paths = settings.photons;
     let per_path = paths as f64 / PILOT_LIGHT_PATHS as f64;
-    let rays = pilot.rays.light as f64 * per_path + pilot.rays.eye as f64;
+    // The eye pass's rays: the eye-only paths' per sampled pixel (the render's own eye paths,
+    // with their shadow rays and glossy chains) for each pixel with a point, one camera ray
+    // for each without.
+    let eye_rays = (total.rays + total.shadow_rays) as f64 / (EYE_SAMPLES * sampled.max(1)) as f64;
+    let rays = pilot.light_rays as f64 * per_path
+        + eye_rays * found.len() as f64
+        + (pilot.points.len() - found.len()) as f64;
     let visits = found.len() as f64 * pilot.k as f64 * per_path;
     let share = gather_share(rays, visits);
-    bias_variance_scale(&moments, settings.alpha, paths, share).1
+    let iterations = nominal_iterations(rays, share);
+    bias_variance_scale(&moments, settings.alpha, paths, share, iterations).1
 }
 
 #[cfg(test)]
@@ -426,6 +457,9 @@ mod tests {
     use crate::photon::Photon;
     use crate::sampling::Rng;
     use glam::Vec2;
+
+    /// The iterations the scale's tests are evaluated over.
+    const N: u32 = 64;
 
     /// `n` photons of flux 1 on the plane z = 0 over [-1, 1]², with density proportional to
     /// 1 + a (x² + y²) (rejection sampling), bounce 1.
@@ -505,7 +539,7 @@ mod tests {
                 );
             }
             if a > 0.0 {
-                let (p, _) = bias_variance_scale(&[sum], 2.0 / 3.0, 1000, 0.0);
+                let (p, _) = bias_variance_scale(&[sum], 2.0 / 3.0, 1000, 0.0, N);
                 assert!((p - 4.0).abs() < 0.3, "order {p}");
             }
         }
@@ -518,7 +552,7 @@ mod tests {
     #[test]
     fn the_scale_balances_bias_and_variance() {
         let alpha = 2.0 / 3.0;
-        let (c_b, c_v) = schedule_constants(alpha, 4.0);
+        let (c_b, c_v) = schedule_constants(alpha, 4.0, N);
         let kappa = 2.0 * c_b * c_b / c_v;
         assert!((7.0..7.6).contains(&kappa), "kappa {kappa}");
         let smooth = [PixelMoments {
@@ -530,11 +564,11 @@ mod tests {
         // The search's scales are a step of ln 8 / 256 apart in log m.
         let step = ((MAX_SCALE / MIN_SCALE) as f64).ln() / SCALE_STEPS as f64;
         let near = |m: f32, want: f64| (m as f64 / want).ln().abs() <= 0.5 * step + 1e-6;
-        let (p, m) = bias_variance_scale(&smooth, alpha, PILOT_LIGHT_PATHS, 0.0);
+        let (p, m) = bias_variance_scale(&smooth, alpha, PILOT_LIGHT_PATHS, 0.0, N);
         assert!((p - 4.0).abs() < 1e-9, "order {p}");
         let want = (2e-2 / (kappa * 1e-4)).powf(1.0 / 6.0);
         assert!(near(m, want), "m {m}, closed form {want}");
-        let (_, more) = bias_variance_scale(&smooth, alpha, PILOT_LIGHT_PATHS * 64, 0.0);
+        let (_, more) = bias_variance_scale(&smooth, alpha, PILOT_LIGHT_PATHS * 64, 0.0, N);
         assert!(near(more, 0.5 * want), "{more} vs {want} / 2");
         let edge = [PixelMoments {
             bias2: 1e-4,
@@ -542,8 +576,8 @@ mod tests {
             variance: 2e-2,
             eye: 0.0,
         }];
-        let (p, m_edge) = bias_variance_scale(&edge, alpha, PILOT_LIGHT_PATHS, 0.0);
-        let (c_b, c_v) = schedule_constants(alpha, 1.0);
+        let (p, m_edge) = bias_variance_scale(&edge, alpha, PILOT_LIGHT_PATHS, 0.0, N);
+        let (c_b, c_v) = schedule_constants(alpha, 1.0, N);
         let want = (2.0 * c_v * 2e-2 / (c_b * c_b * 1e-4)).powf(1.0 / 3.0);
         assert!((p - 1.0).abs() < 1e-9, "order {p}");
         assert!(near(m_edge, want), "{m_edge} vs {want}");
@@ -553,14 +587,17 @@ mod tests {
             variance: 2e-2,
             eye: 0.0,
         }];
-        assert_eq!(bias_variance_scale(&flat, alpha, 1000, 0.0).1, MAX_SCALE);
+        assert_eq!(bias_variance_scale(&flat, alpha, 1000, 0.0, N).1, MAX_SCALE);
         let steep = [PixelMoments {
             bias2: 1.0,
             bias2_double: 16.0,
             variance: 1e-6,
             eye: 0.0,
         }];
-        assert_eq!(bias_variance_scale(&steep, alpha, 1000, 0.0).1, MIN_SCALE);
+        assert_eq!(
+            bias_variance_scale(&steep, alpha, 1000, 0.0, N).1,
+            MIN_SCALE
+        );
     }
 
     /// At equal time a larger disc costs iterations: with the gathers a tenth of an
@@ -578,11 +615,54 @@ mod tests {
                 eye,
             }]
         };
-        let at = |eye, share| bias_variance_scale(&moments(eye), alpha, PILOT_LIGHT_PATHS, share).1;
+        let at =
+            |eye, share| bias_variance_scale(&moments(eye), alpha, PILOT_LIGHT_PATHS, share, N).1;
         let free = at(0.0, 0.0);
         assert_eq!(at(1.0, 0.0), free);
         let costly = at(0.0, 0.1);
         let noisy = at(1.0, 0.1);
         assert!(costly < free && noisy < costly, "{free} {costly} {noisy}");
+    }
+
+    /// The nominal iterations are [`NOMINAL_RAYS`] over an iteration's cost, its rays times
+    /// 1 + g, within [1, MAX]; over more iterations an edge's bias (p = 1), which falls as
+    /// N^(-(1 - alpha)/2) while the variance falls as N^(-alpha), takes a smaller scale, by
+    /// the closed form m³ = 2 c_v V / (c_b² B) at each N; smooth light's (p = 4, both terms
+    /// falling alike at alpha = 2/3) keeps its scale within a few percent.
+    #[test]
+    fn the_scale_is_chosen_for_a_render_of_nominal_length() {
+        assert_eq!(nominal_iterations(1e6, 0.25), 160);
+        assert_eq!(nominal_iterations(1e6, -1.0), 200);
+        assert_eq!(nominal_iterations(1e12, 0.0), 1);
+        assert_eq!(nominal_iterations(10.0, 0.0), MAX_NOMINAL_ITERATIONS);
+        assert_eq!(nominal_iterations(0.0, 0.0), MAX_NOMINAL_ITERATIONS);
+        assert_eq!(nominal_iterations(f64::NAN, 0.0), MAX_NOMINAL_ITERATIONS);
+        let alpha = 2.0 / 3.0;
+        let step = ((MAX_SCALE / MIN_SCALE) as f64).ln() / SCALE_STEPS as f64;
+        let near = |m: f32, want: f64| (m as f64 / want).ln().abs() <= 0.5 * step + 1e-6;
+        let edge = [PixelMoments {
+            bias2: 1e-4,
+            bias2_double: 2e-4,
+            variance: 2e-2,
+            eye: 0.0,
+        }];
+        let mut previous = f32::INFINITY;
+        for n in [16, 64, 512] {
+            let (_, m) = bias_variance_scale(&edge, alpha, PILOT_LIGHT_PATHS, 0.0, n);
+            let (c_b, c_v) = schedule_constants(alpha, 1.0, n);
+            let want = (2.0 * c_v * 2e-2 / (c_b * c_b * 1e-4)).powf(1.0 / 3.0);
+            assert!(near(m, want), "{n} iterations: m {m}, closed form {want}");
+            assert!(m < previous, "{n} iterations: m {m} not below {previous}");
+            previous = m;
+        }
+        let smooth = [PixelMoments {
+            bias2: 1e-4,
+            bias2_double: 16e-4,
+            variance: 2e-2,
+            eye: 0.0,
+        }];
+        let at = |n| bias_variance_scale(&smooth, alpha, PILOT_LIGHT_PATHS, 0.0, n).1;
+        let (short, long) = (at(64), at(512));
+        assert!((long / short - 1.0).abs() < 0.05, "{short} vs {long}");
     }
 }
