@@ -7,11 +7,41 @@ use std::process::{Command, Output};
 
 pub mod process;
 
-/// The `ppm` binary, run in `dir`.
+/// The `ppm` binary, run in `dir`, with the stop signals at their default disposition, as
+/// from an interactive shell. A test run under `nohup` (SIGHUP ignored) or as a background
+/// job (SIGINT ignored) would otherwise hand those dispositions on to the child, which keeps
+/// an inherited ignored signal ignored (as it should), and a test that sends it would wait
+/// for a stop that never comes.
 pub fn ppm(dir: &Path) -> Command {
     let mut command = Command::new(env!("CARGO_BIN_EXE_ppm"));
     command.current_dir(dir);
+    #[cfg(unix)]
+    default_stop_signals(&mut command);
     command
+}
+
+/// Resets the stop signals (those of ppm's `signal.rs`) to SIG_DFL in the child.
+#[cfg(unix)]
+fn default_stop_signals(command: &mut Command) {
+    use std::os::unix::process::CommandExt;
+    const STOP_SIGNALS: [libc::c_int; 6] = [
+        libc::SIGINT,
+        libc::SIGTERM,
+        libc::SIGHUP,
+        libc::SIGUSR1,
+        libc::SIGUSR2,
+        libc::SIGXCPU,
+    ];
+    // SAFETY: between fork and exec the closure only calls signal(2), which is
+    // async-signal-safe, and allocates nothing.
+    unsafe {
+        command.pre_exec(|| {
+            for signal in STOP_SIGNALS {
+                libc::signal(signal, libc::SIG_DFL);
+            }
+            Ok(())
+        });
+    }
 }
 
 /// Runs `ppm args...` in `dir` and returns its output.
