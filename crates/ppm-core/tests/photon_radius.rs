@@ -101,8 +101,9 @@ fn the_photon_radius_scales_with_the_scene() {
 /// At 4 times the width (16 times the pixels, the same pilot photons) the k-nearest
 /// distances are those of the same surface points: the median changes by sampling alone (the
 /// pilot points move within their pixels), under 5%; the footprint rule's median shrinks 4
-/// times. The scale changes with the gathers' share of an iteration's time, which is small at
-/// these sizes, and with the sample of pixels it is measured on: under 10%.
+/// times. The scale changes with an iteration's cost (the gathers' share and the nominal
+/// iterations, both set by the light paths' rays at these sizes) and with the sample of
+/// pixels it is measured on: under 10%.
 #[test]
 fn the_photon_radius_does_not_depend_on_the_resolution() {
     let (low, high) = (sphere_on_floor(1.0, 24), sphere_on_floor(1.0, 96));

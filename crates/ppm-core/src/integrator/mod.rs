@@ -15,6 +15,7 @@ mod path;
 mod photon_sink;
 mod ppm;
 mod radius;
+mod radius_moments;
 mod radius_photons;
 mod radius_scale;
 mod renderer;
@@ -46,13 +47,14 @@ pub use path::PathTracer;
 pub use photon_sink::PhotonSink;
 pub use ppm::{density_estimate, gather_limit, GatherContext, PpmRenderer};
 pub use radius::{smallest_radius, RadiusSchedule};
+pub use radius_moments::pixel_moments;
 pub use radius_photons::{
     initial_pixel_radii, nearest_photon_distance, nearest_photon_radii, photon_radii,
     photon_radii_with, CAP, NEAREST_PHOTONS, PILOT_LIGHT_PATHS, PILOT_PHOTON_STREAM,
 };
 pub use radius_scale::{
-    bias_variance_scale, gather_share, pixel_moments, schedule_constants, PixelMoments,
-    BIAS_ORDERS, MAX_SCALE, MIN_SCALE, VISIT_COST,
+    bias_variance_scale, gather_share, nominal_iterations, schedule_constants, PixelMoments,
+    BIAS_ORDERS, MAX_SCALE, MIN_SCALE, NOMINAL_RAYS, VISIT_COST,
 };
 pub use renderer::{Aov, Features, Integrator, Renderer};
 pub use runner::Stop;

@@ -31,8 +31,8 @@
 //! - Resolution: the pilot map's size is fixed, not the render's photons per iteration
 //!   (`sppm` and `vcm` trace one light path per pixel), and d_k is measured at points, not
 //!   over pixels, so d_k of a surface point does not depend on the image's size. The scale
-//!   m does, through time alone: at equal time more pixels make the gathers a larger share
-//!   of an iteration, and a larger disc costs more there.
+//!   m does, through time alone: at equal time more pixels mean fewer iterations of a
+//!   render of the nominal length, and make the gathers a larger share of each.
 //! - For a uniform photon density rho (photons per unit area) on a plane, pi d_k^2 rho is
 //!   Gamma(k, 1) distributed (the k-th point of a Poisson process), so
 //!   E[d_k^2] = k / (pi rho): the first iteration's disc holds about k photons per
@@ -47,7 +47,8 @@
 
 use super::camera_walk::RayCounters;
 use super::footprint::{footprint_radii, pilot_points, PilotPoint};
-use super::radius_scale::{pilot_scale, scales, Pilot};
+use super::radius_moments::{pilot_scale, Pilot};
+use super::radius_scale::scales;
 use super::runner::Poll;
 use super::{
     gather_limit, trace_light_path, DirectMode, MemoryEstimate, MemoryPart, PhotonCounters, Radius,
@@ -77,7 +78,7 @@ pub const CAP: f32 = 4.0;
 /// Random streams of the pilot light paths, apart from the iterations' and the pilot points'.
 pub const PILOT_PHOTON_STREAM: u64 = 0x6b6e_6e5f_7068_6f74;
 
-/// Random streams of the pilot's eye-only estimates ([`super::radius_scale::EyeLight`]).
+/// Random streams of the pilot's eye-only estimates ([`super::radius_moments::EyeLight`]).
 pub const PILOT_EYE_STREAM: u64 = 0x6579_655f_6e6f_6973;
 
 /// Pilot points used to choose the grid's cell size (a stride through the found ones).
